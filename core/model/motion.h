@@ -1,0 +1,35 @@
+#pragma once
+/// @file
+/// A prescribed motion: coordinate values over frames, read from an OpenSim
+/// .mot file (angles in degrees when its header says `inDegrees=yes`).
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace rbfmuscle {
+
+class Skeleton;
+
+/// Coordinate values per frame, in the skeleton's coordinate order, in rad.
+/// Coordinates the file does not mention stay at 0.
+class Motion {
+ public:
+  /// Reads `path` and maps its columns onto `skeleton`'s coordinates.
+  /// @throws ModelError naming the file and the column for a coordinate the
+  ///   skeleton does not have, or for a file without frames.
+  static Motion fromFile(const std::string& path, const Skeleton& skeleton);
+
+  int getNumFrames() const { return static_cast<int>(times_s_.size()); }
+  double getTime(int frame) const { return times_s_[frame]; }
+  /// Coordinates of one frame (rad), size = skeleton coordinate count.
+  const Eigen::VectorXd& getCoordinates(int frame) const { return q_rad_[frame]; }
+  const std::string& getPath() const { return path_; }
+
+ private:
+  std::string path_;
+  std::vector<double> times_s_;
+  std::vector<Eigen::VectorXd> q_rad_;
+};
+
+}  // namespace rbfmuscle

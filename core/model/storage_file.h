@@ -1,0 +1,33 @@
+#pragma once
+/// @file
+/// OpenSim storage files (.sto/.mot): header lines, `endheader`, one row of
+/// column labels, then tab-separated rows whose first column is time (s).
+/// Also CSV output of the same table.
+#include <string>
+#include <vector>
+
+namespace rbfmuscle {
+
+struct StorageTable {
+  std::string name;                         ///< first header line
+  bool in_degrees = false;                  ///< header `inDegrees=yes|no`
+  std::vector<std::string> column_labels;   ///< column_labels[0] == "time"
+  std::vector<std::vector<double>> rows;    ///< each row has column_labels.size() values
+
+  /// Index of a column, or -1 when there is none of that label.
+  int findColumn(const std::string& label) const;
+};
+
+/// Reads a .sto/.mot file. @throws ModelError naming the file and line for a
+/// missing file, a missing `endheader`, a row of the wrong length or a value
+/// that is not a number.
+StorageTable readStorage(const std::string& path);
+
+/// Writes a .sto file (OpenSim storage version 1). Writes to a temporary file
+/// beside `path` and renames it, so a failure never leaves a half-written file.
+void writeStorage(const std::string& path, const StorageTable& table);
+
+/// Writes the same table as CSV (header row of labels), atomically.
+void writeCsv(const std::string& path, const StorageTable& table);
+
+}  // namespace rbfmuscle
