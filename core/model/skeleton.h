@@ -7,19 +7,14 @@
 /// are in metres by convention; the reader converts them to mm once.
 #include <Eigen/Geometry>
 
+#include "model/model_error.h"
+
 #include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace rbfmuscle {
-
-/// Thrown for a bad URDF, motion or storage file; the message names the file
-/// and the element, column or line at fault and what was expected.
-class ModelError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 /// One mesh attached to a body (URDF visual or collision element).
 struct BodyMesh {

@@ -6,8 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "model/model_error.h"
+
 namespace rbfmuscle {
 
+/// A table of numbers with labelled columns, as in an OpenSim storage file.
 struct StorageTable {
   std::string name;                         ///< first header line
   bool in_degrees = false;                  ///< header `inDegrees=yes|no`

@@ -1,0 +1,247 @@
+#include "model/storage_file.h"
+
+#include <unistd.h>
+
+#include <cerrno>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+namespace rbfmuscle {
+namespace {
+
+std::string trim(const std::string& s) {
+  const char* ws = " \t\r\n";
+  const auto b = s.find_first_not_of(ws);
+  if (b == std::string::npos) return "";
+  const auto e = s.find_last_not_of(ws);
+  return s.substr(b, e - b + 1);
+}
+
+[[noreturn]] void fail(const std::string& path, int line, const std::string& what) {
+  std::ostringstream m;
+  m << "storage file " << path;
+  if (line > 0) m << ", line " << line;
+  m << ": " << what;
+  throw ModelError(m.str());
+}
+
+/// Splits a label row on tabs (labels may contain spaces), or on any white
+/// space when the row has no tab.
+std::vector<std::string> splitLabels(const std::string& line) {
+  std::vector<std::string> out;
+  if (line.find('\t') != std::string::npos) {
+    std::stringstream ss(line);
+    std::string item;
+    while (std::getline(ss, item, '\t')) {
+      item = trim(item);
+      if (!item.empty()) out.push_back(item);
+    }
+  } else {
+    std::istringstream ss(line);
+    std::string item;
+    while (ss >> item) out.push_back(item);
+  }
+  return out;
+}
+
+/// Parses a non-negative integer header value such as `nRows=12`.
+long parseCount(const std::string& path, int line, const std::string& key,
+                const std::string& value) {
+  char* end = nullptr;
+  errno = 0;
+  const long n = std::strtol(value.c_str(), &end, 10);
+  if (value.empty() || *end != '\0' || errno != 0 || n < 0)
+    fail(path, line, "header '" + key + "=" + value + "': expected a non-negative integer");
+  return n;
+}
+
+/// Formats with max_digits10 significant digits so that write→read is exact.
+std::string formatNumber(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", std::numeric_limits<double>::max_digits10, v);
+  return buf;
+}
+
+void checkTable(const std::string& path, const StorageTable& table) {
+  if (table.column_labels.empty()) fail(path, 0, "cannot write a table without column labels");
+  for (const auto& label : table.column_labels)
+    if (label.empty() || label.find_first_of("\t\r\n") != std::string::npos)
+      fail(path, 0, "cannot write column label '" + label +
+                        "': labels must be non-empty and contain no tab or line break");
+  if (table.name.find_first_of("\r\n") != std::string::npos)
+    fail(path, 0, "cannot write table name '" + table.name + "': it contains a line break");
+  for (std::size_t r = 0; r < table.rows.size(); ++r)
+    if (table.rows[r].size() != table.column_labels.size())
+      fail(path, 0, "cannot write row " + std::to_string(r) + ": it has " +
+                        std::to_string(table.rows[r].size()) + " values, expected " +
+                        std::to_string(table.column_labels.size()) + " (one per column label)");
+}
+
+/// Writes `text` to a temporary file beside `path`, then renames it over `path`.
+void writeAtomically(const std::string& path, const std::string& text) {
+  const std::string tmp = path + ".tmp" + std::to_string(static_cast<long>(::getpid()));
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) fail(path, 0, "cannot open temporary file " + tmp + " for writing: " + std::strerror(errno));
+  const bool written = std::fwrite(text.data(), 1, text.size(), f) == text.size();
+  const bool closed = std::fclose(f) == 0;
+  if (!written || !closed) {
+    std::remove(tmp.c_str());
+    fail(path, 0, "cannot write temporary file " + tmp);
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string why = std::strerror(errno);
+    std::remove(tmp.c_str());
+    fail(path, 0, "cannot rename " + tmp + " to it: " + why);
+  }
+}
+
+std::string csvField(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) {
+    if (c == '"') q += '"';
+    q += c;
+  }
+  return q + "\"";
+}
+
+}  // namespace
+
+int StorageTable::findColumn(const std::string& label) const {
+  for (std::size_t i = 0; i < column_labels.size(); ++i)
+    if (column_labels[i] == label) return static_cast<int>(i);
+  return -1;
+}
+
+StorageTable readStorage(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) fail(path, 0, "cannot open it for reading (missing or unreadable)");
+
+  StorageTable table;
+  std::string line;
+  int line_no = 0;
+  bool have_end = false;
+  long n_rows = -1, n_columns = -1;
+  int n_rows_line = 0, n_columns_line = 0;
+
+  // Header: an optional name line, then key=value lines, up to `endheader`.
+  while (std::getline(in, line)) {
+    ++line_no;
+    const std::string t = trim(line);
+    if (t == "endheader") {
+      have_end = true;
+      break;
+    }
+    const auto eq = t.find('=');
+    if (eq == std::string::npos) {
+      if (line_no == 1) table.name = t;
+      continue;  // free-text header lines ("Units are S.I. units ...") are allowed
+    }
+    const std::string key = trim(t.substr(0, eq));
+    const std::string value = trim(t.substr(eq + 1));
+    if (key == "inDegrees") {
+      if (value == "yes") table.in_degrees = true;
+      else if (value == "no") table.in_degrees = false;
+      else fail(path, line_no, "header 'inDegrees=" + value + "': expected yes or no");
+    } else if (key == "nRows") {
+      n_rows = parseCount(path, line_no, key, value);
+      n_rows_line = line_no;
+    } else if (key == "nColumns") {
+      n_columns = parseCount(path, line_no, key, value);
+      n_columns_line = line_no;
+    }
+  }
+  if (!have_end) fail(path, line_no, "no 'endheader' line before the end of the file");
+
+  // Column labels: the first non-blank line after `endheader`.
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!trim(line).empty()) break;
+  }
+  table.column_labels = splitLabels(line);
+  if (table.column_labels.empty())
+    fail(path, line_no, "no row of column labels after 'endheader'");
+  const int labels_line = line_no;
+  if (table.column_labels[0] != "time")
+    fail(path, labels_line,
+         "first column label is '" + table.column_labels[0] + "', expected 'time'");
+  std::set<std::string> seen;
+  for (const auto& label : table.column_labels)
+    if (!seen.insert(label).second)
+      fail(path, labels_line, "column label '" + label + "' appears twice");
+  if (n_columns >= 0 && static_cast<std::size_t>(n_columns) != table.column_labels.size())
+    fail(path, n_columns_line,
+         "header says nColumns=" + std::to_string(n_columns) + " but the label row (line " +
+             std::to_string(labels_line) + ") has " +
+             std::to_string(table.column_labels.size()) + " labels");
+
+  // Data rows: white-space separated numbers, one per column.
+  const std::size_t width = table.column_labels.size();
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (trim(line).empty()) continue;
+    std::istringstream ss(line);
+    std::vector<double> row;
+    row.reserve(width);
+    std::string token;
+    while (ss >> token) {
+      char* end = nullptr;
+      const double v = std::strtod(token.c_str(), &end);
+      if (end == token.c_str() || *end != '\0')
+        fail(path, line_no,
+             "value '" + token + "' in column " + std::to_string(row.size() + 1) +
+                 (row.size() < width ? " ('" + table.column_labels[row.size()] + "')" : "") +
+                 " is not a number");
+      row.push_back(v);
+    }
+    if (row.size() != width)
+      fail(path, line_no,
+           "row has " + std::to_string(row.size()) + " values, expected " +
+               std::to_string(width) + " (one per column label)");
+    table.rows.push_back(std::move(row));
+  }
+  if (n_rows >= 0 && static_cast<std::size_t>(n_rows) != table.rows.size())
+    fail(path, n_rows_line,
+         "header says nRows=" + std::to_string(n_rows) + " but the file has " +
+             std::to_string(table.rows.size()) + " data rows");
+  return table;
+}
+
+void writeStorage(const std::string& path, const StorageTable& table) {
+  checkTable(path, table);
+  std::string out;
+  out += (table.name.empty() ? std::string("storage") : table.name) + "\n";
+  out += "version=1\n";
+  out += "nRows=" + std::to_string(table.rows.size()) + "\n";
+  out += "nColumns=" + std::to_string(table.column_labels.size()) + "\n";
+  out += std::string("inDegrees=") + (table.in_degrees ? "yes" : "no") + "\n";
+  out += "endheader\n";
+  for (std::size_t c = 0; c < table.column_labels.size(); ++c)
+    out += (c ? "\t" : "") + table.column_labels[c];
+  out += "\n";
+  for (const auto& row : table.rows) {
+    for (std::size_t c = 0; c < row.size(); ++c) out += (c ? "\t" : "") + formatNumber(row[c]);
+    out += "\n";
+  }
+  writeAtomically(path, out);
+}
+
+void writeCsv(const std::string& path, const StorageTable& table) {
+  checkTable(path, table);
+  std::string out;
+  for (std::size_t c = 0; c < table.column_labels.size(); ++c)
+    out += (c ? "," : "") + csvField(table.column_labels[c]);
+  out += "\n";
+  for (const auto& row : table.rows) {
+    for (std::size_t c = 0; c < row.size(); ++c) out += (c ? "," : "") + formatNumber(row[c]);
+    out += "\n";
+  }
+  writeAtomically(path, out);
+}
+
+}  // namespace rbfmuscle

@@ -1,0 +1,156 @@
+#include "model/storage_file.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <string>
+
+namespace rbfmuscle {
+namespace {
+
+/// A scratch file in the build tree, removed when the test ends.
+class TempFile {
+ public:
+  explicit TempFile(const std::string& name)
+      : path_(std::string(RBFMUSCLE_BINARY_DIR) + "/storage_test_" + name) {}
+  ~TempFile() { std::remove(path_.c_str()); }
+  const std::string& path() const { return path_; }
+  void write(const std::string& text) const { std::ofstream(path_) << text; }
+
+ private:
+  std::string path_;
+};
+
+std::string readAll(const std::string& path) {
+  std::ifstream in(path);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+}
+
+/// Expects `f` to throw ModelError whose message contains every one of `parts`.
+template <typename F>
+void expectModelError(F f, std::initializer_list<std::string> parts) {
+  try {
+    f();
+    FAIL() << "expected ModelError";
+  } catch (const ModelError& e) {
+    const std::string what = e.what();
+    for (const auto& p : parts) EXPECT_NE(what.find(p), std::string::npos) << what << "\nmissing: " << p;
+  }
+}
+
+StorageTable sampleTable() {
+  StorageTable t;
+  t.name = "fibre lengths";
+  t.in_degrees = true;
+  t.column_labels = {"time", "hip_flexion_r", "muscle/fiber_length"};
+  t.rows = {{0.0, 1.0 / 3.0, 123.456789012345678},
+            {1.0 / 30.0, -std::numeric_limits<double>::min(), 1e300},
+            {2.0 / 30.0, std::nan(""), -0.1}};
+  return t;
+}
+
+TEST(StorageFile, WriteThenReadIsExact) {
+  TempFile f("roundtrip.sto");
+  const StorageTable t = sampleTable();
+  writeStorage(f.path(), t);
+  const StorageTable r = readStorage(f.path());
+  EXPECT_EQ(r.name, t.name);
+  EXPECT_TRUE(r.in_degrees);
+  EXPECT_EQ(r.column_labels, t.column_labels);
+  ASSERT_EQ(r.rows.size(), t.rows.size());
+  for (std::size_t i = 0; i < t.rows.size(); ++i)
+    for (std::size_t j = 0; j < t.rows[i].size(); ++j) {
+      if (std::isnan(t.rows[i][j])) EXPECT_TRUE(std::isnan(r.rows[i][j]));
+      else EXPECT_EQ(r.rows[i][j], t.rows[i][j]) << "row " << i << " column " << j;
+    }
+  EXPECT_EQ(r.findColumn("muscle/fiber_length"), 2);
+  EXPECT_EQ(r.findColumn("nope"), -1);
+}
+
+TEST(StorageFile, WrittenHeaderIsOpenSimStorage) {
+  TempFile f("header.sto");
+  writeStorage(f.path(), sampleTable());
+  const std::string text = readAll(f.path());
+  EXPECT_EQ(text.rfind("fibre lengths\nversion=1\nnRows=3\nnColumns=3\ninDegrees=yes\nendheader\n"
+                       "time\thip_flexion_r\tmuscle/fiber_length\n0\t",
+                       0),
+            0u)
+      << text;
+}
+
+TEST(StorageFile, ReadsForeignHeaderLines) {
+  TempFile f("foreign.mot");
+  f.write("Coordinates\r\nversion=1\r\nnRows=2\r\nnColumns=2\r\ninDegrees=no\r\n\r\n"
+          "Units are S.I. units (second, meters, Newtons, ...)\r\nendheader\r\n"
+          "time\tknee angle\r\n 0.0   1.5\r\n\r\n0.1\t-2e-3\r\n");
+  const StorageTable r = readStorage(f.path());
+  EXPECT_EQ(r.name, "Coordinates");
+  EXPECT_FALSE(r.in_degrees);
+  ASSERT_EQ(r.column_labels.size(), 2u);
+  EXPECT_EQ(r.column_labels[1], "knee angle");
+  ASSERT_EQ(r.rows.size(), 2u);
+  EXPECT_EQ(r.rows[1][1], -2e-3);
+}
+
+TEST(StorageFile, CsvHasLabelRowAndExactNumbers) {
+  TempFile f("table.csv");
+  StorageTable t;
+  t.column_labels = {"time", "a,b"};
+  t.rows = {{0.5, 0.1}};
+  writeCsv(f.path(), t);
+  EXPECT_EQ(readAll(f.path()), "time,\"a,b\"\n0.5,0.10000000000000001\n");
+}
+
+TEST(StorageFile, MissingFileNamesFile) {
+  expectModelError([] { readStorage("/nonexistent/dir/x.sto"); }, {"/nonexistent/dir/x.sto"});
+}
+
+TEST(StorageFile, MissingEndheaderNamesFile) {
+  TempFile f("noend.sto");
+  f.write("name\nversion=1\ntime\ta\n0\t1\n");
+  expectModelError([&] { readStorage(f.path()); }, {f.path(), "endheader"});
+}
+
+TEST(StorageFile, ShortRowNamesFileAndLine) {
+  TempFile f("short.sto");
+  f.write("name\ninDegrees=no\nendheader\ntime\ta\tb\n0\t1\t2\n0.1\t1\n");
+  expectModelError([&] { readStorage(f.path()); }, {f.path(), "line 6", "2 values, expected 3"});
+}
+
+TEST(StorageFile, BadNumberNamesLineAndColumn) {
+  TempFile f("badnum.sto");
+  f.write("name\nendheader\ntime\ta\n0\t1x\n");
+  expectModelError([&] { readStorage(f.path()); }, {f.path(), "line 4", "'1x'", "'a'"});
+}
+
+TEST(StorageFile, HeaderCountsMustMatch) {
+  TempFile f("counts.sto");
+  f.write("name\nnRows=3\nendheader\ntime\ta\n0\t1\n");
+  expectModelError([&] { readStorage(f.path()); }, {f.path(), "line 2", "nRows=3", "1 data rows"});
+}
+
+TEST(StorageFile, FirstColumnMustBeTime) {
+  TempFile f("notime.sto");
+  f.write("name\nendheader\nt\ta\n0\t1\n");
+  expectModelError([&] { readStorage(f.path()); }, {f.path(), "line 3", "'time'"});
+}
+
+TEST(StorageFile, WriteRejectsRaggedRowAndLeavesNoFile) {
+  TempFile f("ragged.sto");
+  StorageTable t;
+  t.column_labels = {"time", "a"};
+  t.rows = {{0.0}};
+  expectModelError([&] { writeStorage(f.path(), t); }, {f.path(), "row 0"});
+  EXPECT_FALSE(std::ifstream(f.path()).good());
+}
+
+TEST(StorageFile, WriteToMissingDirectoryNamesFile) {
+  expectModelError([] { writeStorage("/nonexistent/dir/out.sto", sampleTable()); },
+                   {"/nonexistent/dir/out.sto"});
+}
+
+}  // namespace
+}  // namespace rbfmuscle
