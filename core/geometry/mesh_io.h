@@ -1,0 +1,33 @@
+#pragma once
+/// @file
+/// Mesh files: reading (PLY by an own reader; STL, OBJ and every other format assimp knows),
+/// writing binary PLY, and hashing a file to tie derived data to its source mesh.
+#include <string>
+
+#include "geometry/mesh_error.h"
+#include "geometry/triangle_mesh.h"
+
+namespace rbfmuscle {
+
+/// Reads every triangle of every mesh in the file (node transforms applied, polygons
+/// triangulated, points and lines ignored). PLY (ASCII or binary, by the `.ply` extension)
+/// is read by the library's own reader, because assimp 5.2 misreads some binary PLY files;
+/// every other format (STL, OBJ, ...) through assimp. Then it then welds vertices with exactly equal
+/// coordinates so unindexed formats (STL) become indexed; unreferenced vertices are dropped.
+/// Coordinates are taken as millimetres as stored.
+/// @throws MeshError naming `path` when the file is missing or unreadable, assimp fails
+///         (assimp's message included), there are no triangles, or a coordinate is not finite.
+TriangleMesh loadMesh(const std::string& path);
+
+/// Writes `mesh` as binary little-endian PLY (`property double x/y/z` in mm,
+/// `property list uchar int vertex_indices`), so writePly → loadMesh is exact. Written to a temporary file beside `path`
+/// and renamed over it, so `path` is never left half-written.
+/// @throws MeshError naming `path` when the file cannot be written.
+void writePly(const std::string& path, const TriangleMesh& mesh);
+
+/// 64-bit FNV-1a hash of the file's bytes as 16 lowercase hex digits
+/// (offset basis 0xcbf29ce484222325, prime 0x100000001b3).
+/// @throws MeshError naming `path` when the file cannot be read.
+std::string hashFile(const std::string& path);
+
+}  // namespace rbfmuscle

@@ -1,0 +1,188 @@
+#include "geometry/ply_reader.h"
+
+#include <cctype>
+#include <cstdint>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+#include <utility>
+
+#include "geometry/mesh_error.h"
+
+namespace rbfmuscle::detail {
+namespace {
+
+enum class Format { Ascii, BinaryLittle, BinaryBig };
+
+struct Property {
+  std::string name;
+  std::string type;        ///< scalar type, or the item type of a list
+  std::string count_type;  ///< empty unless this is a list
+};
+
+struct Element {
+  std::string name;
+  long long count = 0;
+  std::vector<Property> properties;
+};
+
+int sizeOf(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" ||
+      type == "float" || type == "float32")
+    return 4;
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+/// Sequential reader of the data section, ASCII or binary.
+class BodyReader {
+ public:
+  BodyReader(const std::string& path, const std::string& data, std::size_t pos, Format format)
+      : path_(path), data_(data), pos_(pos), format_(format) {}
+
+  double read(const std::string& type) {
+    if (format_ == Format::Ascii) return readAscii();
+    const int n = sizeOf(type);
+    if (pos_ + static_cast<std::size_t>(n) > data_.size())
+      throw MeshError(path_ + ": PLY data ends early (truncated file)");
+    unsigned char b[8];
+    std::memcpy(b, data_.data() + pos_, static_cast<std::size_t>(n));
+    pos_ += static_cast<std::size_t>(n);
+    if (format_ == Format::BinaryBig)
+      for (int i = 0; i < n / 2; ++i) std::swap(b[i], b[n - 1 - i]);
+    std::uint64_t u = 0;
+    for (int i = n - 1; i >= 0; --i) u = (u << 8) | b[i];
+    if (type == "float" || type == "float32") {
+      float f;
+      const std::uint32_t u32 = static_cast<std::uint32_t>(u);
+      std::memcpy(&f, &u32, 4);
+      return f;
+    }
+    if (n == 8) {
+      double d;
+      std::memcpy(&d, &u, 8);
+      return d;
+    }
+    const bool is_signed = type[0] != 'u';
+    if (is_signed && (u >> (8 * n - 1)) != 0) return double(std::int64_t(u) - (std::int64_t(1) << (8 * n)));
+    return double(u);
+  }
+
+ private:
+  double readAscii() {
+    while (pos_ < data_.size() && std::isspace(static_cast<unsigned char>(data_[pos_]))) ++pos_;
+    if (pos_ >= data_.size()) throw MeshError(path_ + ": PLY data ends early (truncated file)");
+    const char* begin = data_.c_str() + pos_;
+    char* end = nullptr;
+    const double value = std::strtod(begin, &end);
+    if (end == begin) {
+      std::string token(begin, std::strcspn(begin, " \t\r\n"));
+      throw MeshError(path_ + ": PLY data holds '" + token + "' where a number was expected");
+    }
+    pos_ += static_cast<std::size_t>(end - begin);
+    return value;
+  }
+
+  const std::string& path_;
+  const std::string& data_;
+  std::size_t pos_;
+  Format format_;
+};
+
+}  // namespace
+
+PlyContent readPly(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw MeshError(path + ": cannot open mesh file (missing or unreadable)");
+  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+
+  Format format = Format::Ascii;
+  bool has_format = false;
+  std::vector<Element> elements;
+  std::size_t pos = 0;
+  int line_number = 0;
+  for (;;) {
+    const std::size_t eol = data.find('\n', pos);
+    if (eol == std::string::npos) throw MeshError(path + ": PLY header has no end_header line");
+    std::string line = data.substr(pos, eol - pos);
+    pos = eol + 1;
+    ++line_number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream words(line);
+    std::string key;
+    words >> key;
+    const auto bad = [&](const std::string& why) {
+      return MeshError(path + ": PLY header line " + std::to_string(line_number) + " '" + line +
+                       "': " + why);
+    };
+    if (line_number == 1) {
+      if (key != "ply") throw bad("expected 'ply'");
+    } else if (key == "format") {
+      std::string name;
+      words >> name;
+      if (name == "ascii") format = Format::Ascii;
+      else if (name == "binary_little_endian") format = Format::BinaryLittle;
+      else if (name == "binary_big_endian") format = Format::BinaryBig;
+      else throw bad("unknown format");
+      has_format = true;
+    } else if (key == "element") {
+      Element e;
+      if (!(words >> e.name >> e.count) || e.count < 0) throw bad("expected 'element NAME COUNT'");
+      elements.push_back(e);
+    } else if (key == "property") {
+      if (elements.empty()) throw bad("property before any element");
+      Property p;
+      words >> p.type;
+      if (p.type == "list") words >> p.count_type >> p.type;
+      words >> p.name;
+      if (p.name.empty() || sizeOf(p.type) == 0 ||
+          (!p.count_type.empty() && sizeOf(p.count_type) == 0))
+        throw bad("unknown property type");
+      elements.back().properties.push_back(p);
+    } else if (key == "end_header") {
+      break;
+    } else if (key != "comment" && key != "obj_info" && !key.empty()) {
+      throw bad("unknown keyword");
+    }
+  }
+  if (!has_format) throw MeshError(path + ": PLY header has no format line");
+
+  PlyContent content;
+  BodyReader body(path, data, pos, format);
+  for (const Element& e : elements) {
+    const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
+    if (is_vertex) content.vertices.resize(static_cast<std::size_t>(e.count), {0.0, 0.0, 0.0});
+    for (long long i = 0; i < e.count; ++i) {
+      for (const Property& p : e.properties) {
+        if (p.count_type.empty()) {
+          const double value = body.read(p.type);
+          if (is_vertex && p.name.size() == 1 && p.name[0] >= 'x' && p.name[0] <= 'z')
+            content.vertices[static_cast<std::size_t>(i)][static_cast<std::size_t>(p.name[0] - 'x')] = value;
+          continue;
+        }
+        const double count = body.read(p.count_type);
+        if (!(count >= 0)) throw MeshError(path + ": PLY list with negative length");
+        const bool indices = is_face && (p.name == "vertex_indices" || p.name == "vertex_index");
+        std::vector<int> face;
+        for (int k = 0; k < int(count); ++k) {
+          const double index = body.read(p.type);
+          if (indices) face.push_back(int(index));
+        }
+        if (indices) content.faces.push_back(std::move(face));
+      }
+    }
+  }
+  const long long vertex_count = static_cast<long long>(content.vertices.size());
+  for (std::size_t f = 0; f < content.faces.size(); ++f)
+    for (int v : content.faces[f])
+      if (v < 0 || v >= vertex_count)
+        throw MeshError(path + ": PLY face " + std::to_string(f) + " uses vertex " +
+                        std::to_string(v) + ", expected 0.." + std::to_string(vertex_count - 1));
+  return content;
+}
+
+}  // namespace rbfmuscle::detail

@@ -1,0 +1,181 @@
+#include "geometry/mesh_io.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <iterator>
+#include <limits>
+
+#include "support/eigen_compare.h"
+#include "unit/geometry/test_meshes.h"
+
+namespace rbfmuscle {
+namespace {
+
+using test::makeCube;
+using test::makeTempDir;
+using test::modelPath;
+using test::writeText;
+
+/// Expects `f` to throw MeshError whose message contains every string in `parts`.
+template <typename F>
+void expectMeshError(F f, std::initializer_list<std::string> parts) {
+  try {
+    f();
+    FAIL() << "expected MeshError";
+  } catch (const MeshError& e) {
+    const std::string what = e.what();
+    for (const auto& part : parts) EXPECT_NE(what.find(part), std::string::npos) << what;
+  }
+}
+
+TEST(MeshIo, LoadsShippedPlyWithFileCounts) {
+  struct Expected {
+    const char* file;
+    int vertices, triangles;
+  };
+  for (const Expected& e : {Expected{"shapes/box.ply", 2648, 5292},
+                            Expected{"shapes/rod.ply", 5768, 11532},
+                            Expected{"shapes/block.ply", 26, 48},
+                            Expected{"shapes/tetrahedron.ply", 4, 4},
+                            Expected{"hip/meshes/femur_r.ply", 21230, 42456},
+                            Expected{"hip/meshes/gluteus_maximus_r.ply", 9878, 19752},
+                            Expected{"hip/meshes/iliacus_r.ply", 6931, 13858},
+                            Expected{"hip/meshes/pelvis_r_proxy.ply", 845, 1690}}) {
+    const TriangleMesh m = loadMesh(modelPath(e.file));
+    EXPECT_EQ(m.countVertices(), e.vertices) << e.file;
+    EXPECT_EQ(m.countTriangles(), e.triangles) << e.file;
+    EXPECT_GE(m.triangles.minCoeff(), 0) << e.file;
+    EXPECT_LT(m.triangles.maxCoeff(), m.countVertices()) << e.file;
+  }
+}
+
+TEST(MeshIo, BoxHasFileBounds) {
+  // models/shapes/box.ply spans x, z ∈ [−50, 50] mm and y ∈ [10, 90] mm.
+  const Eigen::AlignedBox3d box = loadMesh(modelPath("shapes/box.ply")).calcBoundingBox();
+  EXPECT_TRUE(test::isApprox(box.min(), Eigen::Vector3d(-50, 10, -50), 0, 1e-9));
+  EXPECT_TRUE(test::isApprox(box.max(), Eigen::Vector3d(50, 90, 50), 0, 1e-9));
+}
+
+TEST(MeshIo, AsciiStlIsWeldedIntoIndexedCube) {
+  const TriangleMesh cube = makeCube(10.0);
+  std::string stl = "solid cube\n";
+  for (int t = 0; t < cube.countTriangles(); ++t) {
+    stl += " facet normal 0 0 0\n  outer loop\n";
+    for (int c = 0; c < 3; ++c) {
+      const Eigen::Vector3d p = cube.getCorner(t, c);
+      stl += "   vertex " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " +
+             std::to_string(p.z()) + "\n";
+    }
+    stl += "  endloop\n endfacet\n";
+  }
+  stl += "endsolid cube\n";
+  const auto dir = makeTempDir("stl");
+  const TriangleMesh m = loadMesh(writeText(dir / "cube.stl", stl));
+  EXPECT_EQ(m.countVertices(), 8);
+  EXPECT_EQ(m.countTriangles(), 12);
+  for (int t = 0; t < 12; ++t)
+    for (int c = 0; c < 3; ++c)
+      EXPECT_TRUE(test::isApprox(m.getCorner(t, c), cube.getCorner(t, c), 0, 1e-9));
+}
+
+TEST(MeshIo, ObjQuadsAreTriangulated) {
+  const auto dir = makeTempDir("obj");
+  const std::string path = writeText(dir / "square.obj",
+                                     "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n");
+  const TriangleMesh m = loadMesh(path);
+  EXPECT_EQ(m.countVertices(), 4);
+  EXPECT_EQ(m.countTriangles(), 2);
+}
+
+TEST(MeshIo, WritePlyRoundTripIsExact) {
+  TriangleMesh m = loadMesh(modelPath("hip/meshes/gluteus_maximus_r.ply"));
+  m.vertices_mm.array() += 0.123456789;  // shifted, so the file is not a byte copy
+  const auto dir = makeTempDir("roundtrip");
+  const std::string path = (dir / "out.ply").string();
+  writePly(path, m);
+  const TriangleMesh back = loadMesh(path);
+  EXPECT_EQ(back.triangles, m.triangles);
+  EXPECT_TRUE(test::isApprox(back.vertices_mm, m.vertices_mm, 0, 0));
+  std::size_t files = 0;
+  for ([[maybe_unused]] const auto& entry : std::filesystem::directory_iterator(dir)) ++files;
+  EXPECT_EQ(files, 1u) << "temporary file left beside the target";
+}
+
+TEST(MeshIo, HashIsFnv1a64OfBytes) {
+  const auto dir = makeTempDir("hash");
+  // Published FNV-1a 64 test vectors: "" and "a".
+  EXPECT_EQ(hashFile(writeText(dir / "empty", "")), "cbf29ce484222325");
+  EXPECT_EQ(hashFile(writeText(dir / "a", "a")), "af63dc4c8601ec8c");
+  EXPECT_EQ(hashFile(modelPath("shapes/box.ply")).size(), 16u);
+  EXPECT_NE(hashFile(modelPath("shapes/box.ply")), hashFile(modelPath("shapes/rod.ply")));
+  expectMeshError([&] { hashFile((dir / "nothing").string()); }, {"nothing"});
+}
+
+TEST(MeshIo, MissingFileNamesFile) {
+  expectMeshError([] { loadMesh("/nonexistent/dir/iliacus.ply"); },
+                  {"/nonexistent/dir/iliacus.ply", "cannot open"});
+}
+
+TEST(MeshIo, GarbageFilesNameFileAndFault) {
+  const auto dir = makeTempDir("garbage");
+  const std::string ply = writeText(dir / "garbage.ply", "ply\nthis is not a mesh\n\x01\x02");
+  expectMeshError([&] { loadMesh(ply); }, {ply, "line 2", "unknown keyword"});
+  const std::string stl = writeText(dir / "garbage.stl", "\x01\x02 not an stl file");
+  expectMeshError([&] { loadMesh(stl); }, {stl, "assimp"});
+}
+
+TEST(MeshIo, TruncatedBinaryPlyNamesFile) {
+  const auto dir = makeTempDir("truncated");
+  const std::string full = (dir / "full.ply").string();
+  writePly(full, makeCube(1.0));
+  std::ifstream in(full, std::ios::binary);
+  std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string cut = writeText(dir / "cut.ply", bytes.substr(0, bytes.size() - 7));
+  expectMeshError([&] { loadMesh(cut); }, {cut, "truncated"});
+}
+
+TEST(MeshIo, AsciiPlyWithQuadsAndExtraProperties) {
+  const auto dir = makeTempDir("asciiply");
+  const std::string path = writeText(
+      dir / "square.ply",
+      "ply\r\nformat ascii 1.0\r\ncomment x\r\nelement vertex 4\r\nproperty double x\r\n"
+      "property double y\r\nproperty double z\r\nproperty uchar red\r\nelement face 1\r\n"
+      "property list uchar int vertex_index\r\nend_header\r\n"
+      "0 0 0 1\r\n2 0 0 1\r\n2 3 0 1\r\n0 3 0.5 1\r\n4 0 1 2 3\r\n");
+  const TriangleMesh m = loadMesh(path);
+  EXPECT_EQ(m.countVertices(), 4);
+  EXPECT_EQ(m.countTriangles(), 2);
+  EXPECT_TRUE(test::isApprox(m.vertices_mm.col(3), Eigen::Vector3d(0, 3, 0.5), 0, 0));
+}
+
+TEST(MeshIo, MeshWithoutTrianglesNamesFile) {
+  const auto dir = makeTempDir("notriangles");
+  const std::string path = writeText(dir / "points.obj", "v 0 0 0\nv 1 0 0\nv 1 1 0\n");
+  expectMeshError([&] { loadMesh(path); }, {path});
+  try {
+    loadMesh(path);
+  } catch (const MeshError& e) {
+    const std::string what = e.what();
+    EXPECT_TRUE(what.find("no triangles") != std::string::npos ||
+                what.find("assimp") != std::string::npos)
+        << what;
+  }
+}
+
+TEST(MeshIo, NanVertexNamesFileAndVertex) {
+  TriangleMesh m = makeCube(10.0);
+  m.vertices_mm(1, 5) = std::numeric_limits<double>::quiet_NaN();
+  const auto dir = makeTempDir("nan");
+  const std::string path = (dir / "nan.ply").string();
+  writePly(path, m);
+  expectMeshError([&] { loadMesh(path); }, {path, "non-finite", "vertex 5"});
+}
+
+TEST(MeshIo, WriteToMissingDirectoryNamesFile) {
+  expectMeshError([] { writePly("/nonexistent/dir/out.ply", makeCube(1.0)); },
+                  {"/nonexistent/dir/out.ply"});
+}
+
+}  // namespace
+}  // namespace rbfmuscle
