@@ -1,5 +1,7 @@
 #include "model/storage_file.h"
 
+#include "model_test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,34 +13,17 @@
 namespace rbfmuscle {
 namespace {
 
-/// A scratch file in the build tree, removed when the test ends.
-class TempFile {
- public:
-  explicit TempFile(const std::string& name)
-      : path_(std::string(RBFMUSCLE_BINARY_DIR) + "/storage_test_" + name) {}
-  ~TempFile() { std::remove(path_.c_str()); }
-  const std::string& path() const { return path_; }
-  void write(const std::string& text) const { std::ofstream(path_) << text; }
+using test::expectModelError;
 
- private:
-  std::string path_;
+/// Storage test scratch file.
+class TempFile : public test::TempFile {
+ public:
+  explicit TempFile(const std::string& name) : test::TempFile("storage_" + name) {}
 };
 
 std::string readAll(const std::string& path) {
   std::ifstream in(path);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-/// Expects `f` to throw ModelError whose message contains every one of `parts`.
-template <typename F>
-void expectModelError(F f, std::initializer_list<std::string> parts) {
-  try {
-    f();
-    FAIL() << "expected ModelError";
-  } catch (const ModelError& e) {
-    const std::string what = e.what();
-    for (const auto& p : parts) EXPECT_NE(what.find(p), std::string::npos) << what << "\nmissing: " << p;
-  }
 }
 
 StorageTable sampleTable() {

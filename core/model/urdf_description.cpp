@@ -1,0 +1,176 @@
+#include "model/urdf_description.h"
+
+#include <console_bridge/console.h>
+#include <urdf_parser/urdf_parser.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace rbfmuscle::detail {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr double kMetresToMm = 1000.0;
+
+/// Collects urdfdom's console_bridge messages while it parses, so that the
+/// ModelError can say why parsing failed instead of printing to stderr.
+class CaptureLog : public console_bridge::OutputHandler {
+ public:
+  CaptureLog() { console_bridge::useOutputHandler(this); }
+  ~CaptureLog() override { console_bridge::restorePreviousOutputHandler(); }
+  CaptureLog(const CaptureLog&) = delete;
+  CaptureLog& operator=(const CaptureLog&) = delete;
+  void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) text_ += (text_.empty() ? "" : "; ") + text;
+  }
+  const std::string& text() const { return text_; }
+
+ private:
+  std::string text_;
+};
+
+Eigen::Isometry3d toIsometry_mm(const urdf::Pose& pose) {
+  double x, y, z, w;
+  pose.rotation.getQuaternion(x, y, z, w);
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = Eigen::Quaterniond(w, x, y, z).normalized().toRotationMatrix();
+  X.translation() = kMetresToMm * Eigen::Vector3d(pose.position.x, pose.position.y, pose.position.z);
+  return X;
+}
+
+std::string where(const std::string& urdf_path, const std::string& what) {
+  return "URDF " + urdf_path + ": " + what;
+}
+
+/// Mesh path: `file://` prefix dropped; relative paths are relative to the URDF's directory.
+std::string resolveMeshPath(const std::string& urdf_path, const std::string& link,
+                            const std::string& filename) {
+  std::string name = filename;
+  if (name.rfind("file://", 0) == 0) name = name.substr(7);
+  if (name.find("://") != std::string::npos)
+    throw ModelError(where(urdf_path, "link '" + link + "': mesh '" + filename +
+                                          "' uses a URI scheme; give a path relative to the "
+                                          "URDF file or an absolute path"));
+  fs::path p(name);
+  if (p.is_relative()) p = fs::absolute(fs::path(urdf_path)).parent_path() / p;
+  p = p.lexically_normal();
+  if (!fs::is_regular_file(p))
+    throw ModelError(where(urdf_path, "link '" + link + "': mesh file '" + p.string() +
+                                          "' (from filename=\"" + filename + "\") does not exist"));
+  return p.string();
+}
+
+void addMesh(const std::string& urdf_path, const std::string& link, const urdf::Pose& origin,
+             const urdf::GeometrySharedPtr& geometry, bool collision, std::vector<BodyMesh>& out) {
+  if (!geometry || geometry->type != urdf::Geometry::MESH) return;  // primitives are not bone meshes
+  const auto& mesh = static_cast<const urdf::Mesh&>(*geometry);
+  BodyMesh m;
+  m.path = resolveMeshPath(urdf_path, link, mesh.filename);
+  m.X_BM = toIsometry_mm(origin);
+  m.scale_to_mm = kMetresToMm * Eigen::Vector3d(mesh.scale.x, mesh.scale.y, mesh.scale.z);
+  m.collision = collision;
+  out.push_back(std::move(m));
+}
+
+void readInertial(const urdf::Link& in, UrdfLink& out) {
+  if (!in.inertial) {
+    out.mass_kg = kDefaultLinkMass_kg;
+    out.inertia_B_kgmm2 = kDefaultLinkMass_kg * Eigen::Matrix3d::Identity();
+    return;
+  }
+  const urdf::Inertial& i = *in.inertial;
+  out.mass_kg = i.mass;
+  const Eigen::Isometry3d X_BC = toIsometry_mm(i.origin);
+  Eigen::Matrix3d I_C;  // about the mass centre, in the inertial frame C, kg·m²
+  I_C << i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz;
+  const Eigen::Vector3d c = X_BC.translation();
+  // Rotate into link axes, m² → mm², then the parallel-axis shift to the origin.
+  out.com_B_mm = c;
+  out.inertia_B_kgmm2 = X_BC.linear() * (kMetresToMm * kMetresToMm * I_C) * X_BC.linear().transpose() +
+                        i.mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+}
+
+void addLink(const std::string& urdf_path, const urdf::Link& link, int parent,
+             const urdf::Joint* joint, UrdfDescription& out) {
+  UrdfLink l;
+  l.name = link.name;
+  l.parent = parent;
+  if (joint) {
+    l.joint_name = joint->name;
+    l.X_PJ = toIsometry_mm(joint->parent_to_joint_origin_transform);
+    switch (joint->type) {
+      case urdf::Joint::FIXED:
+        l.joint_kind = UrdfJointKind::kFixed;
+        break;
+      case urdf::Joint::REVOLUTE:
+      case urdf::Joint::CONTINUOUS: {
+        l.joint_kind = UrdfJointKind::kRevolute;
+        const Eigen::Vector3d a(joint->axis.x, joint->axis.y, joint->axis.z);
+        if (!(a.norm() > 1e-12))
+          throw ModelError(where(urdf_path, "joint '" + joint->name + "' has a zero axis"));
+        l.axis_J = a.normalized();
+        break;
+      }
+      default: {
+        const char* type = joint->type == urdf::Joint::PRISMATIC  ? "prismatic"
+                           : joint->type == urdf::Joint::FLOATING ? "floating"
+                           : joint->type == urdf::Joint::PLANAR   ? "planar"
+                                                                  : "unknown";
+        throw ModelError(where(urdf_path, "joint '" + joint->name + "' has type '" + type +
+                                              "'; only revolute, continuous and fixed joints are "
+                                              "supported (chain one-DOF joints instead)"));
+      }
+    }
+  }
+  readInertial(link, l);
+  for (const auto& v : link.visual_array)
+    if (v) addMesh(urdf_path, link.name, v->origin, v->geometry, false, l.meshes);
+  for (const auto& c : link.collision_array)
+    if (c) addMesh(urdf_path, link.name, c->origin, c->geometry, true, l.meshes);
+  out.links.push_back(std::move(l));
+  const int self = static_cast<int>(out.links.size()) - 1;
+  for (const auto& child_joint : link.child_joints) {
+    const auto child = std::find_if(link.child_links.begin(), link.child_links.end(),
+                                    [&](const urdf::LinkSharedPtr& c) {
+                                      return c && c->name == child_joint->child_link_name;
+                                    });
+    if (child == link.child_links.end())
+      throw ModelError(where(urdf_path, "joint '" + child_joint->name + "' names child link '" +
+                                            child_joint->child_link_name + "' that is not found"));
+    addLink(urdf_path, **child, self, child_joint.get(), out);
+  }
+}
+
+}  // namespace
+
+UrdfDescription readUrdf(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw ModelError(where(path, "cannot open the file (missing or unreadable)"));
+  std::stringstream text;
+  text << in.rdbuf();
+
+  urdf::ModelInterfaceSharedPtr model;
+  std::string log;
+  {
+    CaptureLog capture;
+    try {
+      model = urdf::parseURDF(text.str());
+    } catch (const std::exception& e) {
+      throw ModelError(where(path, std::string("urdfdom could not parse it: ") + e.what()));
+    }
+    log = capture.text();
+  }
+  if (!model || !model->getRoot())
+    throw ModelError(where(path, "urdfdom could not parse it" + (log.empty() ? "" : ": " + log)));
+
+  UrdfDescription d;
+  d.name = model->getName();
+  d.path = path;
+  addLink(path, *model->getRoot(), -1, nullptr, d);
+  return d;
+}
+
+}  // namespace rbfmuscle::detail

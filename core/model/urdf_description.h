@@ -1,0 +1,53 @@
+#pragma once
+/// @file
+/// Internal to core/model: a URDF file read with urdfdom into plain values,
+/// already in mm, so that the Simbody builder never sees urdf:: types.
+#include <Eigen/Geometry>
+
+#include <string>
+#include <vector>
+
+#include "model/skeleton.h"
+
+namespace rbfmuscle::detail {
+
+/// How a link hangs on its parent.
+enum class UrdfJointKind {
+  kRoot,      ///< the root link: welded to ground with identity pose
+  kFixed,     ///< URDF `fixed`: welded to the parent at X_PJ
+  kRevolute,  ///< URDF `revolute` or `continuous`: one angle about axis_J
+};
+
+/// One link with the joint that connects it to its parent link.
+struct UrdfLink {
+  std::string name;
+  int parent = -1;                       ///< index into UrdfDescription::links, -1 for the root
+  std::string joint_name;                ///< URDF joint to the parent ("" for the root)
+  UrdfJointKind joint_kind = UrdfJointKind::kRoot;
+  Eigen::Isometry3d X_PJ = Eigen::Isometry3d::Identity();  ///< joint frame J in parent (mm)
+  Eigen::Vector3d axis_J = Eigen::Vector3d::UnitZ();       ///< unit rotation axis in J
+  double mass_kg = 0.0;                  ///< URDF mass, or a tiny default when absent
+  Eigen::Vector3d com_B_mm = Eigen::Vector3d::Zero();      ///< mass centre in the link frame
+  /// Inertia about the link frame origin, in link axes (kg·mm²).
+  Eigen::Matrix3d inertia_B_kgmm2 = Eigen::Matrix3d::Zero();
+  std::vector<BodyMesh> meshes;          ///< visual then collision meshes
+};
+
+/// A whole URDF model, links root first in depth-first order.
+struct UrdfDescription {
+  std::string name;                      ///< robot name
+  std::string path;                      ///< the URDF file as given
+  std::vector<UrdfLink> links;
+};
+
+/// Mass given to a link without <inertial> (kg); its inertia about the link
+/// origin is then kDefaultLinkMass_kg × 1 mm² × identity.
+inline constexpr double kDefaultLinkMass_kg = 1e-6;
+
+/// Reads and checks a URDF file. Lengths m → mm; mesh paths resolved relative
+/// to the URDF file's directory.
+/// @throws ModelError naming the file for a missing or unparsable file, a joint
+///   of unsupported type, a zero axis, or a mesh that does not exist.
+UrdfDescription readUrdf(const std::string& path);
+
+}  // namespace rbfmuscle::detail

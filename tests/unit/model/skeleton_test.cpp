@@ -1,0 +1,222 @@
+#include "model/skeleton.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "model_test_support.h"
+#include "support/eigen_compare.h"
+
+namespace rbfmuscle {
+namespace {
+
+using test::expectModelError;
+using test::isApprox;
+using test::TempFile;
+
+constexpr double kDeg = 3.141592653589793238462643383279502884 / 180.0;
+const std::string kHipDir = std::string(RBFMUSCLE_SOURCE_DIR) + "/models/hip";
+const std::string kHipUrdf = kHipDir + "/hip_r.urdf";
+
+/// Hip joint centre and pelvis anatomical frame in CT, copied from
+/// models/hip/landmarks/hip_frame.json (independent of the URDF generator).
+const Eigen::Vector3d kHjc_mm(143.225, 243.37, -432.499);
+
+/// R_GP = [X Y Z]: X anterior, Y superior, Z right, Gram–Schmidt in that order.
+Eigen::Matrix3d pelvisAxes() {
+  const Eigen::Vector3d x = Eigen::Vector3d(-0.12145290859160308, -0.9857994507985134,
+                                            -0.11596824479136207).normalized();
+  const Eigen::Vector3d y_raw(0.015392240843200008, -0.11868956608287738, 0.9928120999589415);
+  const Eigen::Vector3d y = (y_raw - y_raw.dot(x) * x).normalized();
+  Eigen::Matrix3d R;
+  R << x, y, x.cross(y);
+  return R;
+}
+
+/// Analytic femur motion in CT: p ↦ c + R_GP Rz(f) Rx(a) Ry(r) R_GPᵀ (p − c).
+Eigen::Isometry3d analyticFemurMotion(double flex_rad, double add_rad, double rot_rad) {
+  const Eigen::Matrix3d R_GP = pelvisAxes();
+  const Eigen::Matrix3d R_q = (Eigen::AngleAxisd(flex_rad, Eigen::Vector3d::UnitZ()) *
+                               Eigen::AngleAxisd(add_rad, Eigen::Vector3d::UnitX()) *
+                               Eigen::AngleAxisd(rot_rad, Eigen::Vector3d::UnitY()))
+                                  .toRotationMatrix();
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = R_GP * R_q * R_GP.transpose();
+  X.translation() = kHjc_mm - X.linear() * kHjc_mm;
+  return X;
+}
+
+/// The femur mesh's vertices in ground at the skeleton's current coordinates.
+Eigen::Matrix3Xd femurVerticesInGround(const Skeleton& s, const Eigen::Matrix3Xd& v_M) {
+  const int femur = s.findBodyIndex("femur_r");
+  const BodyMesh& mesh = s.getBodyMeshes(femur).front();
+  const Eigen::Isometry3d X_GM = s.getBodyTransform(femur) * mesh.X_BM;
+  return X_GM * (mesh.scale_to_mm.asDiagonal() * v_M);
+}
+
+class HipSkeleton : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    skeleton_ = new Skeleton(Skeleton::fromUrdf(kHipUrdf));
+    femur_ct_ = new Eigen::Matrix3Xd(test::readPlyVertices(kHipDir + "/meshes/femur_r.ply"));
+  }
+  static void TearDownTestSuite() {
+    delete skeleton_;
+    delete femur_ct_;
+  }
+
+  /// Sets (flexion, adduction, rotation) and checks every femur vertex against
+  /// the analytic rotation about the hip joint centre, to 1e-9 mm.
+  void expectFemurFollowsAnalyticMotion(double flex_deg, double add_deg, double rot_deg) {
+    Skeleton& s = *skeleton_;
+    Eigen::VectorXd q(3);
+    q[s.findCoordinateIndex("hip_flexion_r")] = flex_deg * kDeg;
+    q[s.findCoordinateIndex("hip_adduction_r")] = add_deg * kDeg;
+    q[s.findCoordinateIndex("hip_rotation_r")] = rot_deg * kDeg;
+    s.setCoordinateValues(q);
+    const Eigen::Matrix3Xd expected =
+        analyticFemurMotion(flex_deg * kDeg, add_deg * kDeg, rot_deg * kDeg) * *femur_ct_;
+    EXPECT_TRUE(isApprox(femurVerticesInGround(s, *femur_ct_), expected, 0.0, 1e-9))
+        << "flexion " << flex_deg << ", adduction " << add_deg << ", rotation " << rot_deg;
+    // The hip joint centre is a fixed point: the femur frame origin stays on it.
+    EXPECT_TRUE(isApprox(s.getBodyTransform(s.findBodyIndex("femur_r")).translation(), kHjc_mm,
+                         0.0, 1e-9));
+    // The pelvis is ground: identity whatever the coordinates.
+    EXPECT_TRUE(isApprox(s.getBodyTransform(s.findBodyIndex("pelvis")).matrix(),
+                         Eigen::Matrix4d::Identity(), 0.0, 1e-15));
+  }
+
+  static Skeleton* skeleton_;
+  static Eigen::Matrix3Xd* femur_ct_;
+};
+Skeleton* HipSkeleton::skeleton_ = nullptr;
+Eigen::Matrix3Xd* HipSkeleton::femur_ct_ = nullptr;
+
+TEST_F(HipSkeleton, NamesCoordinatesAndBodiesInTreeOrder) {
+  EXPECT_EQ(skeleton_->getName(), "hip_r");
+  EXPECT_EQ(skeleton_->getCoordinateNames(),
+            (std::vector<std::string>{"hip_flexion_r", "hip_adduction_r", "hip_rotation_r"}));
+  EXPECT_EQ(skeleton_->getBodyNames(), (std::vector<std::string>{"pelvis", "femur_r_flexion",
+                                                                 "femur_r_adduction", "femur_r"}));
+  EXPECT_EQ(skeleton_->findCoordinateIndex("knee_angle_r"), -1);
+  EXPECT_EQ(skeleton_->findBodyIndex("tibia_r"), -1);
+}
+
+TEST_F(HipSkeleton, MeshesResolveBesideUrdfWithMmScale) {
+  for (const char* body : {"pelvis", "femur_r"}) {
+    const auto& meshes = skeleton_->getBodyMeshes(skeleton_->findBodyIndex(body));
+    ASSERT_EQ(meshes.size(), 2u) << body;  // one visual, one collision
+    EXPECT_FALSE(meshes[0].collision);
+    EXPECT_TRUE(meshes[1].collision);
+    EXPECT_EQ(meshes[0].path, meshes[1].path);
+    EXPECT_EQ(meshes[0].path.rfind(kHipDir + "/meshes/", 0), 0u) << meshes[0].path;
+    EXPECT_TRUE(isApprox(meshes[0].scale_to_mm, Eigen::Vector3d::Ones(), 1e-15));
+  }
+}
+
+TEST_F(HipSkeleton, FemurMeshSitsAtItsCtPositionAtZero) { expectFemurFollowsAnalyticMotion(0, 0, 0); }
+TEST_F(HipSkeleton, Flexion80) { expectFemurFollowsAnalyticMotion(80, 0, 0); }
+TEST_F(HipSkeleton, Adduction30) { expectFemurFollowsAnalyticMotion(0, 30, 0); }
+TEST_F(HipSkeleton, RotationMinus30) { expectFemurFollowsAnalyticMotion(0, 0, -30); }
+TEST_F(HipSkeleton, CombinedAngles) {
+  expectFemurFollowsAnalyticMotion(35, -7, 12);
+  expectFemurFollowsAnalyticMotion(-10, 25, -28);
+}
+
+TEST_F(HipSkeleton, FlexionMovesTheKneeAnteriorly) {
+  // hip_frame.json: positive flexion moves the knee toward −y in CT. Take the
+  // lowest femur vertex (distal end, smallest z) as the knee.
+  Eigen::Index distal = 0;
+  femur_ct_->row(2).minCoeff(&distal);
+  skeleton_->setCoordinateValues(Eigen::Vector3d(0, 0, 0));
+  const double y0 = femurVerticesInGround(*skeleton_, *femur_ct_)(1, distal);
+  skeleton_->setCoordinateValues(Eigen::Vector3d(30 * kDeg, 0, 0));
+  const double y30 = femurVerticesInGround(*skeleton_, *femur_ct_)(1, distal);
+  EXPECT_LT(y30, y0 - 100.0);  // a ~40 cm femur: the knee moves ~20 cm forward
+}
+
+TEST_F(HipSkeleton, RejectsWrongSizeOrNonFiniteCoordinates) {
+  EXPECT_THROW(skeleton_->setCoordinateValues(Eigen::VectorXd::Zero(2)), std::invalid_argument);
+  EXPECT_THROW(skeleton_->setCoordinateValues(Eigen::Vector3d(0, std::nan(""), 0)),
+               std::invalid_argument);
+  EXPECT_THROW(skeleton_->getBodyTransform(4), std::out_of_range);
+}
+
+/// Rz(y) Ry(p) Rx(r): the URDF rpy convention.
+Eigen::Matrix3d rpy(double r, double p, double y) {
+  return (Eigen::AngleAxisd(y, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(p, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(r, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+TEST(Skeleton, ArbitraryAxisContinuousAndFixedJointsFollowUrdfKinematics) {
+  TempFile f("arm.urdf");
+  f.write(R"(<robot name="arm">
+    <link name="base"/>
+    <joint name="swing" type="continuous">
+      <parent link="base"/><child link="upper"/>
+      <origin xyz="0.1 0.2 0.3" rpy="0.3 -0.2 0.5"/>
+      <axis xyz="1 -2 0.5"/>
+    </joint>
+    <link name="upper"><inertial><mass value="2"/><origin xyz="0 0 0.1" rpy="0.1 0 0"/>
+      <inertia ixx="0.02" ixy="0" ixz="0" iyy="0.02" iyz="0" izz="0.01"/></inertial></link>
+    <joint name="tip_weld" type="fixed">
+      <parent link="upper"/><child link="tip"/>
+      <origin xyz="0 0 0.05" rpy="0 0.4 0"/>
+    </joint>
+    <link name="tip"/>
+  </robot>)");
+  Skeleton s = Skeleton::fromUrdf(f.path());
+  ASSERT_EQ(s.getCoordinateNames(), std::vector<std::string>{"swing"});
+  const double q = 1.1;
+  s.setCoordinateValues(Eigen::VectorXd::Constant(1, q));
+
+  Eigen::Isometry3d X_GJ = Eigen::Isometry3d::Identity();
+  X_GJ.linear() = rpy(0.3, -0.2, 0.5);
+  X_GJ.translation() = Eigen::Vector3d(100, 200, 300);  // mm
+  const Eigen::Isometry3d X_GU = X_GJ * Eigen::AngleAxisd(q, Eigen::Vector3d(1, -2, 0.5).normalized());
+  Eigen::Isometry3d X_UT = Eigen::Isometry3d::Identity();
+  X_UT.linear() = rpy(0, 0.4, 0);
+  X_UT.translation() = Eigen::Vector3d(0, 0, 50);
+  EXPECT_TRUE(isApprox(s.getBodyTransform(s.findBodyIndex("upper")).matrix(), X_GU.matrix(), 0, 1e-12));
+  EXPECT_TRUE(isApprox(s.getBodyTransform(s.findBodyIndex("tip")).matrix(), (X_GU * X_UT).matrix(), 0,
+                       1e-12));
+  EXPECT_TRUE(s.getBodyMeshes(0).empty());
+}
+
+TEST(SkeletonErrors, MissingUrdfNamesFile) {
+  expectModelError([] { Skeleton::fromUrdf("/nonexistent/hip.urdf"); }, {"/nonexistent/hip.urdf"});
+}
+
+TEST(SkeletonErrors, MalformedUrdfNamesFile) {
+  TempFile f("malformed.urdf");
+  f.write("<robot name=\"broken\"><link name=\"a\"></robot>");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "could not parse"});
+}
+
+TEST(SkeletonErrors, PrismaticJointNamesJoint) {
+  TempFile f("prismatic.urdf");
+  f.write(R"(<robot name="slider"><link name="a"/><link name="b"/>
+    <joint name="slide_x" type="prismatic"><parent link="a"/><child link="b"/>
+      <axis xyz="1 0 0"/><limit lower="0" upper="1" effort="1" velocity="1"/></joint></robot>)");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "'slide_x'", "prismatic"});
+}
+
+TEST(SkeletonErrors, MissingMeshNamesUrdfLinkAndMesh) {
+  TempFile f("missing_mesh.urdf");
+  f.write(R"(<robot name="r"><link name="bone"><visual><geometry>
+    <mesh filename="meshes/no_such_bone.ply" scale="0.001 0.001 0.001"/></geometry></visual></link></robot>)");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); },
+                   {f.path(), "'bone'", "meshes/no_such_bone.ply"});
+}
+
+TEST(SkeletonErrors, PackageUriIsRejectedWithAdvice) {
+  TempFile f("package_uri.urdf");
+  f.write(R"(<robot name="r"><link name="bone"><visual><geometry>
+    <mesh filename="package://hip/meshes/femur_r.ply"/></geometry></visual></link></robot>)");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "'bone'", "package://"});
+}
+
+}  // namespace
+}  // namespace rbfmuscle
