@@ -1,0 +1,118 @@
+#include "model/motion.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "model/skeleton.h"
+#include "model_test_support.h"
+
+namespace rbfmuscle {
+namespace {
+
+using test::expectModelError;
+using test::TempFile;
+
+constexpr double kDeg = 3.141592653589793238462643383279502884 / 180.0;
+const std::string kHipDir = std::string(RBFMUSCLE_SOURCE_DIR) + "/models/hip";
+
+class HipMotion : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { skeleton_ = new Skeleton(Skeleton::fromUrdf(kHipDir + "/hip_r.urdf")); }
+  static void TearDownTestSuite() { delete skeleton_; }
+  static Motion load(const std::string& name) {
+    return Motion::fromFile(kHipDir + "/motions/" + name, *skeleton_);
+  }
+  static Skeleton* skeleton_;
+};
+Skeleton* HipMotion::skeleton_ = nullptr;
+
+TEST_F(HipMotion, Flexion0To80InDegreeStepsIsConvertedToRadians) {
+  const Motion m = load("hip_flexion_0_80.mot");
+  ASSERT_EQ(m.getNumFrames(), 81);
+  const int flex = skeleton_->findCoordinateIndex("hip_flexion_r");
+  for (int i = 0; i < m.getNumFrames(); ++i) {
+    EXPECT_NEAR(m.getCoordinates(i)[flex], i * kDeg, 1e-15);
+    EXPECT_NEAR(m.getTime(i), i / 30.0, 1e-15);
+    EXPECT_EQ(m.getCoordinates(i).size(), 3);
+  }
+}
+
+TEST_F(HipMotion, SingleAxisMotionsCoverTheirRanges) {
+  struct Case {
+    const char* file;
+    const char* coordinate;
+    int frames;
+    double first_deg, last_deg;
+  };
+  for (const Case& c : {Case{"hip_adduction_0_30.mot", "hip_adduction_r", 31, 0, 30},
+                        Case{"hip_rotation_m30_30.mot", "hip_rotation_r", 61, -30, 30},
+                        Case{"hip_flexion_0_80_step10.mot", "hip_flexion_r", 9, 0, 80}}) {
+    const Motion m = load(c.file);
+    ASSERT_EQ(m.getNumFrames(), c.frames) << c.file;
+    const int k = skeleton_->findCoordinateIndex(c.coordinate);
+    EXPECT_NEAR(m.getCoordinates(0)[k], c.first_deg * kDeg, 1e-15) << c.file;
+    EXPECT_NEAR(m.getCoordinates(c.frames - 1)[k], c.last_deg * kDeg, 1e-15) << c.file;
+    for (int i = 0; i < m.getNumFrames(); ++i)  // the other coordinates stay at 0
+      EXPECT_EQ(m.getCoordinates(i).cwiseAbs().sum(), std::abs(m.getCoordinates(i)[k])) << c.file;
+  }
+}
+
+TEST_F(HipMotion, GaitCycleIsClosedAndInRange) {
+  const Motion m = load("gait_cycle.mot");
+  ASSERT_EQ(m.getNumFrames(), 101);
+  const int flex = skeleton_->findCoordinateIndex("hip_flexion_r");
+  double lo = 1e9, hi = -1e9;
+  for (int i = 0; i < m.getNumFrames(); ++i) {
+    lo = std::min(lo, m.getCoordinates(i)[flex]);
+    hi = std::max(hi, m.getCoordinates(i)[flex]);
+    EXPECT_LE(m.getCoordinates(i).tail(2).cwiseAbs().maxCoeff(), 5 * kDeg + 1e-12);
+  }
+  EXPECT_NEAR(lo, -10 * kDeg, 1e-12);
+  EXPECT_NEAR(hi, 35 * kDeg, 1e-12);
+  EXPECT_TRUE(m.getCoordinates(0).isApprox(m.getCoordinates(100), 1e-15));
+}
+
+TEST_F(HipMotion, RadiansFileIsNotConverted) {
+  TempFile f("radians.mot");
+  f.write("rad\ninDegrees=no\nendheader\ntime\thip_rotation_r\n0\t0.5\n");
+  const Motion m = Motion::fromFile(f.path(), *skeleton_);
+  EXPECT_EQ(m.getCoordinates(0)[skeleton_->findCoordinateIndex("hip_rotation_r")], 0.5);
+  EXPECT_EQ(m.getPath(), f.path());
+}
+
+TEST_F(HipMotion, UnknownCoordinateNamesFileColumnAndCoordinates) {
+  TempFile f("unknown.mot");
+  f.write("m\ninDegrees=yes\nendheader\ntime\tknee_angle_r\n0\t1\n");
+  expectModelError([&] { Motion::fromFile(f.path(), *skeleton_); },
+                   {"motion " + f.path(), "column 'knee_angle_r' is not a coordinate of skeleton hip_r",
+                    "(coordinates: hip_flexion_r, hip_adduction_r, hip_rotation_r)"});
+}
+
+TEST_F(HipMotion, NoFramesIsAnError) {
+  TempFile f("empty.mot");
+  f.write("m\ninDegrees=yes\nendheader\ntime\thip_flexion_r\n");
+  expectModelError([&] { Motion::fromFile(f.path(), *skeleton_); }, {f.path(), "no frames"});
+}
+
+TEST_F(HipMotion, NonFiniteValueIsAnError) {
+  TempFile f("nan.mot");
+  f.write("m\ninDegrees=yes\nendheader\ntime\thip_flexion_r\n0\t1\n0.1\tnan\n");
+  expectModelError([&] { Motion::fromFile(f.path(), *skeleton_); },
+                   {f.path(), "frame 1", "'hip_flexion_r'", "non-finite"});
+}
+
+TEST_F(HipMotion, TimeMustIncrease) {
+  TempFile f("time.mot");
+  f.write("m\ninDegrees=yes\nendheader\ntime\thip_flexion_r\n0\t1\n0\t2\n");
+  expectModelError([&] { Motion::fromFile(f.path(), *skeleton_); }, {f.path(), "frame 1", "increase"});
+}
+
+TEST_F(HipMotion, StorageErrorsPassThroughWithLine) {
+  TempFile f("short.mot");
+  f.write("m\ninDegrees=yes\nendheader\ntime\thip_flexion_r\n0\n");
+  expectModelError([&] { Motion::fromFile(f.path(), *skeleton_); }, {f.path(), "line 5"});
+}
+
+}  // namespace
+}  // namespace rbfmuscle
