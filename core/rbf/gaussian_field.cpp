@@ -251,9 +251,14 @@ FieldEvaluation GaussianField::calcEvaluation(const Eigen::Vector3d& p_mm) const
     const double c = alpha * weights_[k] * phi;  // αλφ
     sum += weights_[k] * phi;
     gradient -= gaussian::calcValueDerivativeWrtCentre(alpha, weights_[k], phi, d);
-    hessian.noalias() += (4.0 * alpha * c) * (d * d.transpose());
-    hessian.diagonal().array() -= 2.0 * c;
+    // Upper triangle only, mirrored below: H is exactly symmetric.
+    const double s = 4.0 * alpha * c;
+    for (int j = 0; j < 3; ++j) {
+      for (int i = 0; i < j; ++i) hessian(i, j) += s * (d[i] * d[j]);
+      hessian(j, j) += s * (d[j] * d[j]) - 2.0 * c;
+    }
   });
+  hessian.triangularView<Eigen::StrictlyLower>() = hessian.transpose();
   FieldEvaluation result;
   result.value = offset_ + sum;
   result.gradient = gradient;
