@@ -1,8 +1,14 @@
 #pragma once
 /// Small meshes and file helpers shared by the geometry tests.
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "geometry/triangle_mesh.h"
 
@@ -39,6 +45,52 @@ inline TriangleMesh makeCube(double size_mm, double lo_mm = 0.0) {
       2, 3, 5, 7, 1, 5, 6, 7, 4, 6, 3, 7,             //
       3, 1, 7, 6, 5, 4, 7, 3, 6, 2, 7, 5;
   return m;
+}
+
+/// Icosphere of radius `radius_mm` centred at the origin: the icosahedron with each
+/// triangle split in four `levels` times, vertices pushed onto the sphere; wound outward.
+inline TriangleMesh makeIcosphere(double radius_mm, int levels) {
+  const double g = (1.0 + std::sqrt(5.0)) / 2.0;
+  std::vector<Eigen::Vector3d> v = {{-1, g, 0}, {1, g, 0},  {-1, -g, 0}, {1, -g, 0},
+                                    {0, -1, g}, {0, 1, g},  {0, -1, -g}, {0, 1, -g},
+                                    {g, 0, -1}, {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
+  std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
+                                       {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
+                                       {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
+                                       {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
+  for (int level = 0; level < levels; ++level) {
+    std::map<std::pair<int, int>, int> mid;
+    const auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      v.push_back((v[std::size_t(a)] + v[std::size_t(b)]) / 2.0);
+      return mid[key] = int(v.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> next;
+    for (const auto& t : f) {
+      const int ab = midpoint(t[0], t[1]), bc = midpoint(t[1], t[2]), ca = midpoint(t[2], t[0]);
+      next.push_back({t[0], ab, ca});
+      next.push_back({t[1], bc, ab});
+      next.push_back({t[2], ca, bc});
+      next.push_back({ab, bc, ca});
+    }
+    f.swap(next);
+  }
+  TriangleMesh m;
+  m.vertices_mm.resize(3, Eigen::Index(v.size()));
+  for (std::size_t i = 0; i < v.size(); ++i) m.vertices_mm.col(Eigen::Index(i)) = radius_mm * v[i].normalized();
+  m.triangles.resize(3, Eigen::Index(f.size()));
+  for (std::size_t i = 0; i < f.size(); ++i) m.triangles.col(Eigen::Index(i)) << f[i][0], f[i][1], f[i][2];
+  return m;
+}
+
+/// Removes triangle `t` from `mesh`.
+inline TriangleMesh removeTriangle(const TriangleMesh& mesh, int t) {
+  TriangleMesh out = mesh;
+  out.triangles.resize(3, mesh.countTriangles() - 1);
+  out.triangles << mesh.triangles.leftCols(t), mesh.triangles.rightCols(mesh.countTriangles() - t - 1);
+  return out;
 }
 
 }  // namespace rbfmuscle::test

@@ -1,0 +1,21 @@
+#pragma once
+/// @file
+/// Global measures of a triangle mesh: enclosed volume, surface area, components.
+#include "geometry/triangle_mesh.h"
+
+namespace rbfmuscle {
+
+/// Signed enclosed volume (mm³) by the divergence theorem:
+/// V = (1/6) Σₜ (a − o) · ((b − o) × (c − o)) over triangles (a, b, c), with o the bounding-box
+/// centre (exact for a closed mesh whatever o; o only reduces round-off far from the origin).
+/// Positive for a closed mesh wound outward, negative if wound inward.
+double calcVolume(const TriangleMesh& mesh);
+
+/// Total surface area (mm²): Σₜ ½ ‖(b − a) × (c − a)‖.
+double calcArea(const TriangleMesh& mesh);
+
+/// Number of connected pieces: triangles are connected when they share a vertex.
+/// Vertices used by no triangle are not counted.
+int countComponents(const TriangleMesh& mesh);
+
+}  // namespace rbfmuscle
