@@ -1,0 +1,53 @@
+#include "framework/component.h"
+
+#include "framework/frame_state.h"
+
+#include <filesystem>
+
+namespace rbfmuscle {
+namespace {
+
+template <class T>
+T* findByName(const std::vector<T*>& items, const std::string& name) {
+  for (T* item : items)
+    if (item->getName() == name) return item;
+  return nullptr;
+}
+
+}  // namespace
+
+std::string InitContext::resolvePath(const std::string& path) const {
+  const std::filesystem::path p(path);
+  if (p.is_absolute()) return path;
+  return (std::filesystem::path(model_directory_) / p).lexically_normal().string();
+}
+
+AbstractProperty* Component::findProperty(const std::string& name) const {
+  return findByName(properties_, name);
+}
+AbstractSocket* Component::findSocket(const std::string& name) const {
+  return findByName(sockets_, name);
+}
+AbstractOutput* Component::findOutput(const std::string& name) const {
+  return findByName(outputs_, name);
+}
+
+void Component::finalizeProperties() {
+  try {
+    for (const AbstractProperty* property : properties_) property->validate();
+    extendFinalizeProperties();
+  } catch (const FrameworkError& error) {
+    throwAt(location_, error.what());
+  }
+}
+
+void Component::connectSockets(const ConnectionTargets& targets) {
+  try {
+    for (AbstractSocket* socket : sockets_) socket->connect(targets);
+    extendConnectSockets(targets);
+  } catch (const FrameworkError& error) {
+    throwAt(location_, error.what());
+  }
+}
+
+}  // namespace rbfmuscle

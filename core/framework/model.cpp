@@ -1,0 +1,101 @@
+#include "framework/model.h"
+
+#include <exception>
+
+namespace rbfmuscle {
+namespace {
+
+std::string listNames(const std::vector<AbstractProperty*>& items) {
+  std::string text;
+  for (const auto* item : items) text += (text.empty() ? "" : ", ") + item->getName();
+  return text.empty() ? "none" : text;
+}
+
+std::string listSocketNames(const std::vector<AbstractSocket*>& items) {
+  std::string text;
+  for (const auto* item : items) text += (text.empty() ? "" : ", ") + ("socket_" + item->getName());
+  return text.empty() ? "none" : text;
+}
+
+std::unique_ptr<Component> createComponent(const ComponentSpec& spec, const Registry& registry) {
+  std::unique_ptr<Component> component;
+  try {
+    component = registry.create(spec.class_name);
+  } catch (const FrameworkError& error) {
+    throwAt(spec.location, error.what());
+  }
+  component->setName(spec.name);
+  component->setSourceLocation(spec.location);
+  for (const PropertySpec& p : spec.properties) {
+    AbstractProperty* property = component->findProperty(p.name);
+    if (property == nullptr)
+      throwAt(p.location, "unknown property '" + p.name + "' (" + spec.class_name +
+                              " has properties: " + listNames(component->getProperties()) +
+                              "; sockets: " + listSocketNames(component->getSockets()) + ")");
+    try {
+      property->read(p.text);
+    } catch (const FrameworkError& error) {
+      throwAt(p.location, std::string(property->getTypeName()) + " property: " + error.what());
+    }
+  }
+  for (const SocketSpec& s : spec.sockets) {
+    AbstractSocket* socket = component->findSocket(s.name);
+    if (socket == nullptr)
+      throwAt(s.location, "unknown socket 'socket_" + s.name + "' (" + spec.class_name +
+                              " has sockets: " + listSocketNames(component->getSockets()) + ")");
+    socket->setTargetName(s.target);
+  }
+  component->finalizeProperties();
+  return component;
+}
+
+}  // namespace
+
+std::vector<std::unique_ptr<Component>> createComponents(const ModelDocument& document,
+                                                         const Registry& registry) {
+  std::vector<std::unique_ptr<Component>> components;
+  for (const ComponentSpec& spec : document.components)
+    components.push_back(createComponent(spec, registry));
+  return components;
+}
+
+Model::Model(ModelDocument document, Skeleton skeleton, Motion motion,
+             std::vector<std::unique_ptr<Component>> components)
+    : document_(std::move(document)), skeleton_(std::move(skeleton)), motion_(std::move(motion)),
+      components_(std::move(components)) {}
+
+Model Model::build(ModelDocument document, const Registry& registry) {
+  std::vector<std::unique_ptr<Component>> components = createComponents(document, registry);
+  auto load_skeleton = [&]() -> Skeleton {
+    try {
+      return Skeleton::fromUrdf(document.skeleton.path);
+    } catch (const std::exception& error) {
+      throwAt(document.skeleton.location, error.what());
+    }
+  };
+  Skeleton skeleton = load_skeleton();
+  Motion motion;
+  try {
+    motion = Motion::fromFile(document.motion.path, skeleton);
+  } catch (const std::exception& error) {
+    throwAt(document.motion.location, error.what());
+  }
+  std::vector<Component*> pointers;
+  for (const auto& component : components) pointers.push_back(component.get());
+  const ConnectionTargets targets(skeleton.getBodyNames(), pointers);
+  for (const auto& component : components) component->connectSockets(targets);
+  return Model(std::move(document), std::move(skeleton), std::move(motion), std::move(components));
+}
+
+void Model::initializeComponents(const std::string& output_directory) {
+  const InitContext context(document_.directory, output_directory, skeleton_);
+  for (const auto& component : components_) {
+    try {
+      component->initialize(context);
+    } catch (const std::exception& error) {
+      throwAt(component->getSourceLocation(), std::string("initialize: ") + error.what());
+    }
+  }
+}
+
+}  // namespace rbfmuscle

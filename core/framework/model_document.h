@@ -1,0 +1,82 @@
+#pragma once
+/// @file
+/// The model XML file, parsed (tinyxml2) into plain structs; no component is
+/// created here. Format (version 1):
+///
+///     <RBFMuscleModel version="1" name="hip_flexion">
+///       <skeleton file="hip_r.urdf"/>                    <!-- exactly one; relative to this file -->
+///       <plugin file="librbfmuscle_plugin.so"/>         <!-- zero or more; see PluginLoader -->
+///       <motion file="motions/hip_flexion_0_80.mot"/>   <!-- exactly one; relative to this file -->
+///       <components>                                    <!-- optional; updated in this order -->
+///         <BodyOriginReporter name="femur_origin">      <!-- element = registered class -->
+///           <point_mm>0 -400 0</point_mm>               <!-- property (snake_case) -->
+///           <socket_body>femur_r</socket_body>          <!-- socket_NAME = target name -->
+///         </BodyOriginReporter>
+///       </components>
+///       <reporter outputs="femur_origin.*"/>            <!-- optional; patterns, default "*" -->
+///     </RBFMuscleModel>
+#include "framework/framework_error.h"
+
+#include <string>
+#include <vector>
+
+namespace rbfmuscle {
+
+/// Model file format version this build reads.
+inline constexpr int kModelFileVersion = 1;
+
+/// A `<propname>text</propname>` child of a component element.
+struct PropertySpec {
+  std::string name;
+  std::string text;
+  SourceLocation location;
+};
+
+/// A `<socket_NAME>target</socket_NAME>` child; `name` without the prefix.
+struct SocketSpec {
+  std::string name;
+  std::string target;
+  SourceLocation location;
+};
+
+/// One element inside `<components>`.
+struct ComponentSpec {
+  std::string class_name;  ///< element name
+  std::string name;        ///< `name` attribute
+  SourceLocation location;
+  std::vector<PropertySpec> properties;
+  std::vector<SocketSpec> sockets;
+};
+
+/// A `file` attribute of skeleton, plugin or motion.
+struct FileReference {
+  std::string as_written;  ///< attribute text
+  std::string path;        ///< resolved against the model directory (plugins: as written)
+  SourceLocation location;
+};
+
+struct ModelDocument {
+  std::string path;       ///< model file as given
+  std::string directory;  ///< absolute directory of the model file
+  std::string name;       ///< `name` attribute of the root (default: file stem)
+  int version = 0;
+  FileReference skeleton;
+  std::vector<FileReference> plugins;
+  FileReference motion;
+  std::vector<ComponentSpec> components;
+  /// Output selection patterns `COMPONENT.OUTPUT`, '*' matches any run of characters.
+  std::vector<std::string> reporter_patterns{"*"};
+  SourceLocation reporter_location;
+};
+
+/// Reads and checks the structure of a model file.
+/// @throws FrameworkError naming the file, line and element: unreadable file,
+///   XML syntax error, wrong root, missing or unsupported `version`, unknown
+///   element or attribute, missing `file`/`name` attribute, duplicate or
+///   invalid component name, duplicate property or socket.
+ModelDocument readModelDocument(const std::string& path);
+
+/// Same, from text; `path` is used for messages and relative paths.
+ModelDocument parseModelDocument(const std::string& xml_text, const std::string& path);
+
+}  // namespace rbfmuscle

@@ -1,0 +1,184 @@
+#include "framework/simulation.h"
+
+#include "framework/progress_bar.h"
+#include "framework/reporter.h"
+#include "framework/staged_directory.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <thread>
+
+namespace rbfmuscle {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+void addTime(StageTiming& stage, double ms) {
+  stage.total_ms += ms;
+  stage.max_ms = std::max(stage.max_ms, ms);
+}
+
+std::string jsonString(const std::string& text) {
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (static_cast<unsigned char>(c) < 0x20) {
+      char buffer[8];
+      std::snprintf(buffer, sizeof buffer, "\\u%04x", c);
+      out += buffer;
+    } else {
+      out += c;
+    }
+  }
+  return out + "\"";
+}
+
+/// Writes this frame's component geometry and records it in the .pvd series.
+void writeFrameGeometry(const Model& model, int frame, double time_s, const std::string& dir,
+                        std::vector<FrameGeometry>& buffer, std::map<std::string, PvdSeries>& series) {
+  namespace fs = std::filesystem;
+  for (const auto& component : model.getComponents()) {
+    buffer.clear();
+    component->appendFrameGeometry(buffer);
+    for (const FrameGeometry& geometry : buffer) {
+      char index[16];
+      std::snprintf(index, sizeof index, "_%05d.vtp", frame);
+      const std::string file = "meshes/" + geometry.name + index;
+      writeVtp((fs::path(dir) / file).string(), geometry);
+      series[geometry.name].add(time_s, file);
+    }
+  }
+}
+
+}  // namespace
+
+RunSummary runModel(Model& model, const RunOptions& options) {
+  namespace fs = std::filesystem;
+  const auto run_start = Clock::now();
+  StagedDirectory outdir(options.output_directory);
+  const std::string dir = outdir.getStagingPath();
+  if (options.write_frame_meshes) fs::create_directory(fs::path(dir) / "meshes");
+
+  RunSummary summary;
+  auto start = Clock::now();
+  model.initializeComponents(dir);
+  summary.initialize_seconds = msSince(start) / 1000.0;
+
+  const Motion& motion = model.getMotion();
+  Skeleton& skeleton = model.updSkeleton();
+  const auto& components = model.getComponents();
+  const int frames = motion.getNumFrames();
+  Reporter reporter(model.getDocument().name, skeleton.getCoordinateNames(), components,
+                    model.getDocument().reporter_patterns, model.getDocument().reporter_location,
+                    frames);
+
+  summary.stages.push_back({"skeleton"});
+  for (const auto& component : components)
+    summary.stages.push_back({"component " + component->getName() + " (" +
+                              component->getClassName() + ")"});
+  summary.stages.push_back({"output"});
+  if (options.write_frame_meshes) summary.stages.push_back({"frames_mesh"});
+
+  const int num_bodies = static_cast<int>(skeleton.getBodyNames().size());
+  std::vector<Eigen::Isometry3d> X_GB(num_bodies, Eigen::Isometry3d::Identity());
+  std::vector<char> moved(num_bodies, 1);
+  std::vector<double> frame_ms;
+  frame_ms.reserve(frames);
+  std::vector<FrameGeometry> geometry_buffer;
+  std::map<std::string, PvdSeries> series;
+
+  ProgressBar progress(frames, options.show_progress);
+  const auto loop_start = Clock::now();
+  for (int frame = 0; frame < frames; ++frame) {
+    const auto frame_start = Clock::now();
+    const double time_s = motion.getTime(frame);
+    start = Clock::now();
+    skeleton.setCoordinateValues(motion.getCoordinates(frame));
+    for (int b = 0; b < num_bodies; ++b) {
+      const Eigen::Isometry3d X = skeleton.getBodyTransform(b);
+      moved[b] = frame == 0 || !X.isApprox(X_GB[b], 0.0);
+      X_GB[b] = X;
+    }
+    addTime(summary.stages[0], msSince(start));
+    const FrameState state(frame, time_s, skeleton.getCoordinateValues(), X_GB, moved);
+    for (std::size_t c = 0; c < components.size(); ++c) {
+      start = Clock::now();
+      try {
+        components[c]->update(state);
+      } catch (const std::exception& error) {
+        throwAt(components[c]->getSourceLocation(),
+                "update at frame " + std::to_string(frame) + ": " + error.what());
+      }
+      addTime(summary.stages[1 + c], msSince(start));
+    }
+    start = Clock::now();
+    reporter.record(time_s, skeleton.getCoordinateValues());
+    addTime(summary.stages[1 + components.size()], msSince(start));
+    if (options.write_frame_meshes) {
+      start = Clock::now();
+      writeFrameGeometry(model, frame, time_s, dir, geometry_buffer, series);
+      addTime(summary.stages.back(), msSince(start));
+    }
+    frame_ms.push_back(msSince(frame_start));
+    progress.update(frame + 1);
+  }
+  progress.finish();
+  summary.loop_seconds = msSince(loop_start) / 1000.0;
+  summary.frames = frames;
+  if (!frame_ms.empty()) {
+    std::vector<double> sorted = frame_ms;
+    std::sort(sorted.begin(), sorted.end());
+    const std::size_t n = sorted.size();
+    summary.frame_median_ms = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+    summary.frame_max_ms = sorted.back();
+  }
+
+  reporter.write(dir);
+  for (const auto& [name, pvd] : series) pvd.write((fs::path(dir) / (name + ".pvd")).string());
+  summary.total_seconds = options.load_seconds + msSince(run_start) / 1000.0;
+  writeSummaryJson((fs::path(dir) / "summary.json").string(), model, summary, options.load_seconds);
+  outdir.commit();
+  return summary;
+}
+
+void writeSummaryJson(const std::string& path, const Model& model, const RunSummary& summary,
+                      double load_seconds) {
+  std::ofstream out(path);
+  if (!out) throw FrameworkError("cannot write " + path);
+  out.precision(6);
+  const double fps = summary.loop_seconds > 0 ? summary.frames / summary.loop_seconds : 0.0;
+  out << "{\n"
+      << "  \"model\": " << jsonString(model.getDocument().name) << ",\n"
+      << "  \"model_file\": " << jsonString(model.getDocument().path) << ",\n"
+      << "  \"frames\": " << summary.frames << ",\n"
+      << "  \"frames_per_second\": " << fps << ",\n"
+      << "  \"frame_wall_ms\": {\"median\": " << summary.frame_median_ms
+      << ", \"max\": " << summary.frame_max_ms << "},\n"
+      << "  \"seconds\": {\"load\": " << load_seconds << ", \"initialize\": "
+      << summary.initialize_seconds << ", \"frame_loop\": " << summary.loop_seconds
+      << ", \"total\": " << summary.total_seconds << "},\n"
+      << "  \"stages_ms\": [\n";
+  for (std::size_t i = 0; i < summary.stages.size(); ++i) {
+    const StageTiming& s = summary.stages[i];
+    out << "    {\"stage\": " << jsonString(s.name) << ", \"total\": " << s.total_ms
+        << ", \"mean_per_frame\": " << (summary.frames ? s.total_ms / summary.frames : 0.0)
+        << ", \"max\": " << s.max_ms << "}" << (i + 1 < summary.stages.size() ? "," : "") << "\n";
+  }
+  out << "  ],\n"
+      << "  \"machine\": {\"hardware_threads\": " << std::thread::hardware_concurrency()
+      << ", \"note\": \"single-threaded frame loop; wall-clock times (steady_clock)\"}\n"
+      << "}\n";
+  if (!out) throw FrameworkError("cannot write " + path);
+}
+
+}  // namespace rbfmuscle

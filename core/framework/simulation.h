@@ -1,0 +1,49 @@
+#pragma once
+/// @file
+/// The run loop: initialize components, step through the motion, update each
+/// component, record outputs, and write OUTDIR all-or-nothing:
+///   OUTDIR/outputs.sto, OUTDIR/outputs.csv (see Reporter),
+///   OUTDIR/summary.json (frames, wall time per frame, time per stage),
+///   OUTDIR/meshes/NAME_#####.vtp + OUTDIR/NAME.pvd with --frames-mesh.
+#include "framework/model.h"
+
+#include <string>
+#include <vector>
+
+namespace rbfmuscle {
+
+struct RunOptions {
+  std::string output_directory;     ///< OUTDIR
+  bool write_frame_meshes = false;  ///< --frames-mesh
+  bool show_progress = true;        ///< progress on stderr
+  double load_seconds = 0.0;        ///< time the caller spent loading plugins and model (reported)
+};
+
+/// Wall time of one stage of the frame loop, over all frames.
+struct StageTiming {
+  std::string name;     ///< "skeleton", "component NAME (CLASS)", "output", "frames_mesh"
+  double total_ms = 0;  ///< sum over frames
+  double max_ms = 0;    ///< slowest frame
+};
+
+struct RunSummary {
+  int frames = 0;
+  double initialize_seconds = 0;  ///< Component::initialize, all components
+  double loop_seconds = 0;        ///< frame loop
+  double total_seconds = 0;       ///< load + initialize + loop + writing files
+  double frame_median_ms = 0;     ///< wall time of one frame (all stages)
+  double frame_max_ms = 0;
+  std::vector<StageTiming> stages;
+};
+
+/// Runs the model's motion. Components update in document order each frame
+/// after the skeleton is set to the frame's coordinates.
+/// @throws FrameworkError (or the component's exception text prefixed with its
+///   XML location); OUTDIR is then neither created nor changed.
+RunSummary runModel(Model& model, const RunOptions& options);
+
+/// Writes summary.json for a finished run.
+void writeSummaryJson(const std::string& path, const Model& model, const RunSummary& summary,
+                      double load_seconds);
+
+}  // namespace rbfmuscle

@@ -1,0 +1,189 @@
+#include "host_commands.h"
+
+#include "framework/model.h"
+#include "framework/model_document.h"
+#include "framework/plugin_loader.h"
+#include "framework/registry.h"
+#include "framework/simulation.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+
+namespace rbfmuscle {
+namespace {
+
+namespace fs = std::filesystem;
+
+const char* const kRunHelp =
+    "usage: rbfmuscle run MODEL.xml -o OUTDIR [-L PLUGIN]... [--frames-mesh] [--quiet]\n"
+    "\n"
+    "Loads the plugins, builds the model from MODEL.xml, steps through its motion\n"
+    "and writes, all or nothing (a failed run leaves OUTDIR untouched):\n"
+    "  OUTDIR/outputs.sto, outputs.csv  time (s), every coordinate (rad), reported outputs\n"
+    "  OUTDIR/summary.json              frames, wall time per frame and per stage\n"
+    "  OUTDIR/NAME.pvd, meshes/*.vtp    per-frame component geometry (--frames-mesh)\n"
+    "An existing OUTDIR is replaced only when it is an earlier rbfmuscle output.\n"
+    "\n"
+    "options:\n"
+    "  -o, --output OUTDIR  output directory (required)\n"
+    "  -L, --library PLUGIN load a component plugin (repeatable); see 'plugins' below\n"
+    "  --frames-mesh        write each component's geometry per frame\n"
+    "  --quiet              no progress on stderr\n"
+    "  -h, --help           this text\n";
+
+const char* const kInfoHelp =
+    "usage: rbfmuscle info [-L PLUGIN]... [CLASS]\n"
+    "\n"
+    "Lists the registered component classes with their properties (type, default,\n"
+    "range, unit and meaning), sockets and outputs; only CLASS when given.\n"
+    "\n"
+    "options:\n"
+    "  -L, --library PLUGIN load a component plugin (repeatable)\n"
+    "  -h, --help           this text\n";
+
+const char* const kPluginHelp =
+    "plugins: PLUGIN (from -L or <plugin file=...> in the model) is tried as given,\n"
+    "then relative to the model file's directory, then in the host's ../lib directory;\n"
+    "a bare name such as 'rbfmuscle_testplugin' is also tried as librbfmuscle_testplugin.so.\n";
+
+/// Directory `../lib` next to the running executable ("" when unknown).
+std::string hostLibraryDirectory() {
+  std::error_code ec;
+  const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
+  if (ec) return {};
+  return (exe.parent_path().parent_path() / "lib").string();
+}
+
+struct CommandLine {
+  std::vector<std::string> positional;
+  std::vector<std::string> plugins;
+  std::string output;
+  bool frames_mesh = false;
+  bool quiet = false;
+  bool help = false;
+};
+
+/// Parses the options of `run` (with_run = true) or `info`.
+CommandLine parseCommandLine(const std::vector<std::string>& args, bool with_run) {
+  CommandLine line;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto value = [&]() -> std::string {
+      if (i + 1 >= args.size()) throw UsageError("option " + a + " needs a value");
+      return args[++i];
+    };
+    if (a == "-h" || a == "--help") {
+      line.help = true;
+    } else if (a == "-L" || a == "--library") {
+      line.plugins.push_back(value());
+    } else if (a.size() > 2 && a.compare(0, 2, "-L") == 0) {
+      line.plugins.push_back(a.substr(2));
+    } else if (with_run && (a == "-o" || a == "--output")) {
+      line.output = value();
+    } else if (with_run && a == "--frames-mesh") {
+      line.frames_mesh = true;
+    } else if (with_run && a == "--quiet") {
+      line.quiet = true;
+    } else if (!a.empty() && a[0] == '-') {
+      throw UsageError("unknown option '" + a + "'");
+    } else {
+      line.positional.push_back(a);
+    }
+  }
+  return line;
+}
+
+void loadPlugins(const std::vector<std::string>& specs, const std::string& model_directory,
+                 PluginLoader& loader, Registry& registry) {
+  std::vector<std::string> dirs;
+  if (!model_directory.empty()) dirs.push_back(model_directory);
+  const std::string host_lib = hostLibraryDirectory();
+  if (!host_lib.empty()) dirs.push_back(host_lib);
+  for (const auto& spec : specs) loader.load(spec, dirs, registry);
+}
+
+}  // namespace
+
+std::string usageText() {
+  return std::string(
+             "usage: rbfmuscle COMMAND [OPTIONS]\n"
+             "\n"
+             "commands:\n"
+             "  run MODEL.xml -o OUTDIR [-L PLUGIN]... [--frames-mesh]  run a model's motion\n"
+             "  info [-L PLUGIN]... [CLASS]                            list component types\n") +
+#ifdef RBFMUSCLE_HAVE_FIT
+         "  fit ...                                                fit a muscle surface\n" +
+#endif
+         "\n'rbfmuscle COMMAND --help' describes a command.\n";
+}
+
+int runCommand(const std::vector<std::string>& args) {
+  const CommandLine line = parseCommandLine(args, true);
+  if (line.help) {
+    std::cout << kRunHelp << '\n' << kPluginHelp;
+    return 0;
+  }
+  if (line.positional.size() != 1)
+    throw UsageError("run needs exactly one MODEL.xml (got " +
+                     std::to_string(line.positional.size()) + ")");
+  if (line.output.empty()) throw UsageError("run needs -o OUTDIR");
+
+  const auto start = std::chrono::steady_clock::now();
+  Registry registry;
+  PluginLoader loader;
+  ModelDocument document = readModelDocument(line.positional[0]);
+  loadPlugins(line.plugins, document.directory, loader, registry);
+  for (const FileReference& plugin : document.plugins) {
+    try {
+      loadPlugins({plugin.path}, document.directory, loader, registry);
+    } catch (const FrameworkError& error) {
+      throwAt(plugin.location, error.what());
+    }
+  }
+  Model model = Model::build(std::move(document), registry);
+  RunOptions options;
+  options.output_directory = line.output;
+  options.write_frame_meshes = line.frames_mesh;
+  options.show_progress = !line.quiet;
+  options.load_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const RunSummary summary = runModel(model, options);
+  std::fprintf(stderr,
+               "rbfmuscle: %d frames in %.4g s (%.4g frames/s; frame median %.4g ms, max %.4g ms) "
+               "-> %s\n",
+               summary.frames, summary.loop_seconds,
+               summary.loop_seconds > 0 ? summary.frames / summary.loop_seconds : 0.0,
+               summary.frame_median_ms, summary.frame_max_ms, line.output.c_str());
+  return 0;
+}
+
+int infoCommand(const std::vector<std::string>& args) {
+  const CommandLine line = parseCommandLine(args, false);
+  if (line.help) {
+    std::cout << kInfoHelp << '\n' << kPluginHelp;
+    return 0;
+  }
+  if (line.positional.size() > 1) throw UsageError("info takes at most one CLASS");
+  Registry registry;
+  PluginLoader loader;
+  loadPlugins(line.plugins, "", loader, registry);
+  if (line.positional.size() == 1) {
+    const ComponentType* type = registry.findType(line.positional[0]);
+    if (type == nullptr)
+      throw FrameworkError("unknown component class '" + line.positional[0] +
+                           "' (registered: " + registry.listTypeNames() + ")");
+    std::cout << registry.describeType(*type);
+    return 0;
+  }
+  std::cout << "Registered component types (" << registry.getTypes().size() << "):\n";
+  if (registry.getTypes().empty())
+    std::cout << "  none; load a plugin with -L PLUGIN\n";
+  for (const ComponentType& type : registry.getTypes()) std::cout << '\n' << registry.describeType(type);
+  return 0;
+}
+
+}  // namespace rbfmuscle

@@ -1,0 +1,27 @@
+#pragma once
+/// @file
+/// The `run` and `info` commands of the rbfmuscle host. The host only wires
+/// the framework together; it names no component class.
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rbfmuscle {
+
+/// Bad command line: main prints the message and the usage, exits with 2.
+class UsageError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// `rbfmuscle run MODEL.xml -o OUTDIR [-L plugin]... [--frames-mesh] [--quiet]`.
+/// @param args the arguments after "run". @return exit code.
+int runCommand(const std::vector<std::string>& args);
+
+/// `rbfmuscle info [-L plugin]... [CLASS]`. @param args the arguments after "info".
+int infoCommand(const std::vector<std::string>& args);
+
+/// Top-level usage text.
+std::string usageText();
+
+}  // namespace rbfmuscle

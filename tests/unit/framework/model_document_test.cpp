@@ -1,0 +1,105 @@
+#include "framework/model_document.h"
+
+#include "throws_with.h"
+
+#include <gtest/gtest.h>
+
+namespace rbfmuscle {
+namespace {
+
+using test::throwsWith;
+
+ModelDocument parse(const std::string& text) { return parseModelDocument(text, "/m/scene.xml"); }
+
+TEST(ModelDocument, ReadsEveryPart) {
+  const ModelDocument doc = parse(
+      "<RBFMuscleModel version=\"1\" name=\"hip\">\n"
+      "  <skeleton file=\"hip_r.urdf\"/>\n"
+      "  <plugin file=\"libp.so\"/>\n"
+      "  <motion file=\"motions/flex.mot\"/>\n"
+      "  <components>\n"
+      "    <ToyComponent name=\"a\">\n"
+      "      <stiffness> 3 </stiffness>\n"
+      "      <socket_body>femur_r</socket_body>\n"
+      "    </ToyComponent>\n"
+      "    <ToyReader name=\"b\"><socket_bodies> pelvis\n femur_r </socket_bodies></ToyReader>\n"
+      "  </components>\n"
+      "  <reporter outputs=\"a.* b.twice_sum\"/>\n"
+      "</RBFMuscleModel>\n");
+  EXPECT_EQ(doc.name, "hip");
+  EXPECT_EQ(doc.version, 1);
+  EXPECT_EQ(doc.directory, "/m");
+  EXPECT_EQ(doc.skeleton.path, "/m/hip_r.urdf");
+  EXPECT_EQ(doc.motion.path, "/m/motions/flex.mot");
+  EXPECT_EQ(doc.motion.location.line, 4);
+  ASSERT_EQ(doc.plugins.size(), 1u);
+  EXPECT_EQ(doc.plugins[0].path, "libp.so") << "plugins are searched, not resolved";
+  ASSERT_EQ(doc.components.size(), 2u);
+  const ComponentSpec& a = doc.components[0];
+  EXPECT_EQ(a.class_name, "ToyComponent");
+  EXPECT_EQ(a.name, "a");
+  EXPECT_EQ(a.location.line, 6);
+  ASSERT_EQ(a.properties.size(), 1u);
+  EXPECT_EQ(a.properties[0].name, "stiffness");
+  EXPECT_EQ(a.properties[0].text, " 3 ");
+  EXPECT_EQ(a.properties[0].location.line, 7);
+  ASSERT_EQ(a.sockets.size(), 1u);
+  EXPECT_EQ(a.sockets[0].name, "body");
+  EXPECT_EQ(a.sockets[0].target, "femur_r");
+  EXPECT_EQ(doc.components[1].sockets[0].target, "pelvis femur_r");
+  EXPECT_EQ(doc.reporter_patterns, (std::vector<std::string>{"a.*", "b.twice_sum"}));
+}
+
+TEST(ModelDocument, DefaultsNameToFileStemAndReportsEverything) {
+  const ModelDocument doc = parse(
+      "<RBFMuscleModel version=\"1\"><skeleton file=\"/abs/s.urdf\"/><motion file=\"m.mot\"/>"
+      "</RBFMuscleModel>");
+  EXPECT_EQ(doc.name, "scene");
+  EXPECT_EQ(doc.skeleton.path, "/abs/s.urdf");
+  EXPECT_TRUE(doc.components.empty());
+  EXPECT_EQ(doc.reporter_patterns, std::vector<std::string>{"*"});
+}
+
+const char* kHead = "<RBFMuscleModel version=\"1\">\n<skeleton file=\"s.urdf\"/>\n<motion file=\"m.mot\"/>\n";
+
+TEST(ModelDocument, ErrorsNameFileLineAndElement) {
+  EXPECT_TRUE(throwsWith([] { parse("<RBFMuscleModel version=\"1\">\n<skeleton file=\"s\"/>\n<oops/></RBFMuscleModel>"); },
+                         "/m/scene.xml:3: <oops>: unknown element (expected skeleton, plugin"));
+  EXPECT_TRUE(throwsWith([] { parse("<RBFMuscleModel>\n</RBFMuscleModel>"); },
+                         "/m/scene.xml:1: <RBFMuscleModel>: missing attribute 'version'"));
+  EXPECT_TRUE(throwsWith([] { parse("<RBFMuscleModel version=\"2\"/>"); },
+                         "unsupported version '2' (this build reads version 1)"));
+  EXPECT_TRUE(throwsWith([] { parse("<Model version=\"1\"/>"); }, "expected root element <RBFMuscleModel>"));
+  EXPECT_TRUE(throwsWith([] { parse("<RBFMuscleModel version=\"1\">\n\n<skeleton file=\"s\">\n"); },
+                         "/m/scene.xml:"));
+  EXPECT_TRUE(throwsWith([] { parse("<RBFMuscleModel version=\"1\">\n\n<skeleton file=\"s\">\n"); },
+                         "XML syntax error"));
+  EXPECT_TRUE(throwsWith([] { parse("<RBFMuscleModel version=\"1\">\n<motion file=\"m\"/></RBFMuscleModel>"); },
+                         "missing <skeleton file=\"...\"/>"));
+  EXPECT_TRUE(throwsWith([] { parse(std::string(kHead) + "<skeleton file=\"t.urdf\"/></RBFMuscleModel>"); },
+                         "/m/scene.xml:4: <skeleton>: given twice"));
+  EXPECT_TRUE(throwsWith([] { parse(std::string(kHead) + "<plugin path=\"x\"/></RBFMuscleModel>"); },
+                         "/m/scene.xml:4: <plugin>: unknown attribute 'path' (expected: file)"));
+  EXPECT_TRUE(throwsWith([] { parse(std::string(kHead) + "<plugin/></RBFMuscleModel>"); },
+                         "/m/scene.xml:4: <plugin>: missing attribute 'file'"));
+}
+
+TEST(ModelDocument, ComponentElementErrors) {
+  const std::string head = std::string(kHead) + "<components>\n";
+  EXPECT_TRUE(throwsWith([&] { parse(head + "<ToyComponent/></components></RBFMuscleModel>"); },
+                         "/m/scene.xml:5: <ToyComponent>: missing attribute 'name'"));
+  EXPECT_TRUE(throwsWith([&] { parse(head + "<ToyComponent name=\"a.b\"/></components></RBFMuscleModel>"); },
+                         "may not contain '.'"));
+  EXPECT_TRUE(throwsWith(
+      [&] { parse(head + "<A name=\"x\"/>\n<B name=\"x\"/></components></RBFMuscleModel>"); },
+      "/m/scene.xml:6: <B name=\"x\">: duplicate component name 'x'"));
+  EXPECT_TRUE(throwsWith(
+      [&] { parse(head + "<A name=\"x\">\n<k>1</k>\n<k>2</k></A></components></RBFMuscleModel>"); },
+      "/m/scene.xml:7: <k> in <A name=\"x\">: given twice"));
+  EXPECT_TRUE(throwsWith(
+      [&] { parse(head + "<A name=\"x\">\n<k><v/></k></A></components></RBFMuscleModel>"); },
+      "/m/scene.xml:6: <k> in <A name=\"x\">: expected text only, found child element <v>"));
+}
+
+}  // namespace
+}  // namespace rbfmuscle
