@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 #include "geometry/mesh_edges.h"
 
@@ -58,6 +59,9 @@ MeshDistance::MeshDistance(TriangleMesh mesh) : mesh_(std::move(mesh)) {
   for (int t = 0; t < T; ++t) order_[std::size_t(t)] = t;
   nodes_.reserve(std::size_t(2 * (T / kLeafSize + 1)));
   buildNode(0, T, centroids);
+  corners_.resize(std::size_t(T));
+  for (int s = 0; s < T; ++s)
+    for (int c = 0; c < 3; ++c) corners_[std::size_t(s)][std::size_t(c)] = mesh_.getCorner(order_[std::size_t(s)], c);
 }
 
 int MeshDistance::buildNode(int begin, int end, std::vector<Eigen::Vector3d>& centroids) {
@@ -92,28 +96,32 @@ int MeshDistance::buildNode(int begin, int end, std::vector<Eigen::Vector3d>& ce
 
 MeshDistance::Hit MeshDistance::findHit(const Eigen::Vector3d& p) const {
   Hit best{Eigen::Vector3d::Zero(), std::numeric_limits<double>::infinity(), -1, 0};
-  int stack[128];
+  // Depth-first, nearer child first; each entry carries its box's squared distance.
+  std::pair<int, double> stack[128];
   int top = 0;
-  stack[top++] = 0;
+  stack[top++] = {0, nodes_[0].box.squaredExteriorDistance(p)};
   while (top > 0) {
-    const Node& node = nodes_[std::size_t(stack[--top])];
-    if (node.box.squaredExteriorDistance(p) >= best.distance_sq) continue;
+    const auto [id, box_sq] = stack[--top];
+    if (box_sq >= best.distance_sq) continue;
+    const Node& node = nodes_[std::size_t(id)];
     if (node.count == 0) {
       const double dl = nodes_[std::size_t(node.left)].box.squaredExteriorDistance(p);
       const double dr = nodes_[std::size_t(node.right)].box.squaredExteriorDistance(p);
-      // Push the farther child first so the nearer one is searched first.
       if (dl <= dr) {
-        stack[top++] = node.right;
-        stack[top++] = node.left;
+        stack[top++] = {node.right, dr};
+        stack[top++] = {node.left, dl};
       } else {
-        stack[top++] = node.left;
-        stack[top++] = node.right;
+        stack[top++] = {node.left, dl};
+        stack[top++] = {node.right, dr};
       }
       continue;
     }
     for (int s = node.first; s < node.first + node.count; ++s) {
       const int t = order_[std::size_t(s)];
-      const Eigen::Vector3d a = mesh_.getCorner(t, 0), b = mesh_.getCorner(t, 1), c = mesh_.getCorner(t, 2);
+      const auto& corners = corners_[std::size_t(s)];
+      const Eigen::Vector3d& a = corners[0];
+      const Eigen::Vector3d& b = corners[1];
+      const Eigen::Vector3d& c = corners[2];
       Eigen::Vector3d q = a;
       int feature = 0;
       if (face_normals_.col(t).isZero(0.0)) {
@@ -121,7 +129,7 @@ MeshDistance::Hit MeshDistance::findHit(const Eigen::Vector3d& p) const {
         double best_sq = std::numeric_limits<double>::infinity();
         for (int e = 0; e < 3; ++e) {
           double u = 0.0;
-          const Eigen::Vector3d x = closestOnSegment(p, mesh_.getCorner(t, e), mesh_.getCorner(t, (e + 1) % 3), u);
+          const Eigen::Vector3d x = closestOnSegment(p, corners[std::size_t(e)], corners[std::size_t((e + 1) % 3)], u);
           if ((p - x).squaredNorm() < best_sq) {
             best_sq = (p - x).squaredNorm();
             q = x;

@@ -2,6 +2,7 @@
 /// @file
 /// Distance from points to a triangle mesh, unsigned and signed, through a bounding-volume
 /// tree built once.
+#include <array>
 #include <vector>
 
 #include "geometry/mesh_error.h"
@@ -78,6 +79,7 @@ class MeshDistance {
 
   TriangleMesh mesh_;
   std::vector<int> order_;                 ///< triangle index of each tree slot.
+  std::vector<std::array<Eigen::Vector3d, 3>> corners_;  ///< corners per slot (cache-friendly).
   std::vector<Node> nodes_;                ///< nodes_[0] is the root.
   Eigen::Matrix3Xd face_normals_;          ///< unit normal per triangle (0 if degenerate).
   std::vector<Eigen::Vector3d> edge_normals_;    ///< pseudo-normal per undirected edge.
