@@ -1,0 +1,230 @@
+/// Integration tests of the rbfmuscle host: run the executable on model files
+/// under data/, with the test plugin (BodyOriginReporter), and check its
+/// outputs and its error messages.
+#include "model/storage_file.h"
+#include "support/eigen_compare.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+namespace rbfmuscle {
+namespace {
+
+namespace fs = std::filesystem;
+
+const fs::path kData = fs::path(RBFMUSCLE_SOURCE_DIR) / "tests/integration/host/data";
+const fs::path kBinary = fs::path(RBFMUSCLE_BINARY_DIR) / "bin/rbfmuscle";
+const fs::path kPluginDir = fs::path(RBFMUSCLE_BINARY_DIR) / "lib";
+
+struct HostResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string readText(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// A fresh, absent output directory for one test.
+fs::path outputDir(const std::string& name) {
+  const fs::path root = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out" / "host" / name;
+  fs::remove_all(root);
+  fs::create_directories(root);
+  return root / "out";
+}
+
+/// Runs `rbfmuscle ARGS`, capturing stdout and stderr in test_out/host/NAME_log.
+HostResult runHost(const std::string& args, const std::string& name) {
+  const fs::path logs = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out" / "host" / (name + "_log");
+  fs::create_directories(logs);
+  const std::string command = "'" + kBinary.string() + "' " + args + " >'" +
+                              (logs / "stdout").string() + "' 2>'" + (logs / "stderr").string() + "'";
+  const int status = std::system(command.c_str());
+  HostResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.out = readText(logs / "stdout");
+  result.err = readText(logs / "stderr");
+  return result;
+}
+
+/// Runs a bad model: non-zero exit, one-line "rbfmuscle: error:" message
+/// containing every `culprit`, and OUTDIR neither created nor left partial.
+void expectFailure(const std::string& model, const std::vector<std::string>& culprits,
+                   const std::string& extra_args = "", const std::string& tag = "") {
+  const std::string name = tag.empty() ? model : tag;
+  const fs::path out = outputDir(name);
+  const HostResult r = runHost("run '" + (kData / (model + ".xml")).string() + "' -o '" +
+                                   out.string() + "' " + extra_args,
+                               name);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err.rfind("rbfmuscle: error: ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+  for (const auto& culprit : culprits) EXPECT_NE(r.err.find(culprit), std::string::npos) << "missing '" << culprit << "' in: " << r.err;
+  EXPECT_FALSE(fs::exists(out)) << "OUTDIR was created";
+  EXPECT_TRUE(fs::is_empty(out.parent_path())) << "a staging directory was left behind";
+}
+
+/// hip_frame.json: hip joint centre (CT frame, mm) and the pelvis axes in CT
+/// after Gram-Schmidt (as hip_r.urdf states them).
+const Eigen::Vector3d kHipCentre_mm(143.225, 243.37, -432.499);
+const Eigen::Vector3d kPelvisY(0.015392240843200072, -0.11868956608287687, 0.9928120999589416);
+const Eigen::Vector3d kPelvisZ(-0.9924778435393231, 0.11879490607095902, 0.029588855590025755);
+
+Eigen::Vector3d pointAt(const StorageTable& t, const std::string& component, int row) {
+  Eigen::Vector3d p;
+  const char* axes[3] = {"x_mm", "y_mm", "z_mm"};
+  for (int k = 0; k < 3; ++k) {
+    const int column = t.findColumn(component + "." + axes[k]);
+    EXPECT_GE(column, 0) << component << "." << axes[k];
+    p[k] = column >= 0 ? t.rows[row][column] : NAN;
+  }
+  return p;
+}
+
+TEST(Host, RunsPluginComponentOverFlexionAndReportsAnalyticFemurPoint) {
+  const fs::path out = outputDir("femur_point");
+  const HostResult r =
+      runHost("run '" + (kData / "femur_point.xml").string() + "' -o '" + out.string() + "'", "femur_point");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const StorageTable t = readStorage((out / "outputs.sto").string());
+  EXPECT_EQ(t.column_labels,
+            (std::vector<std::string>{"time", "hip_flexion_r", "hip_adduction_r", "hip_rotation_r",
+                                      "femur_knee.x_mm", "femur_knee.y_mm", "femur_knee.z_mm",
+                                      "femur_origin.x_mm", "femur_origin.y_mm", "femur_origin.z_mm",
+                                      "pelvis_point.x_mm", "pelvis_point.y_mm", "pelvis_point.z_mm"}));
+  ASSERT_EQ(t.rows.size(), 81u);
+  EXPECT_FALSE(t.in_degrees);
+  const int last = 80;
+  EXPECT_NEAR(t.rows[last][0], 80.0 / 30.0, 1e-12);
+  const double q_rad = 80.0 * M_PI / 180.0;
+  EXPECT_NEAR(t.rows[last][1], q_rad, 1e-15) << "coordinates are written in rad";
+
+  // Frame 0: p = c + 400 mm along -Y_pelvis. Last frame: rotated by 80° about Z_pelvis through c.
+  const Eigen::Vector3d p0_expected = kHipCentre_mm - 400.0 * kPelvisY;
+  EXPECT_TRUE(test::isApprox(pointAt(t, "femur_knee", 0), p0_expected, 0.0, 1e-9));
+  const Eigen::Vector3d p_last_expected =
+      kHipCentre_mm + Eigen::AngleAxisd(q_rad, kPelvisZ) * (p0_expected - kHipCentre_mm);
+  EXPECT_TRUE(test::isApprox(pointAt(t, "femur_knee", last), p_last_expected, 0.0, 1e-9));
+  for (int row : {0, 40, last}) {
+    EXPECT_TRUE(test::isApprox(pointAt(t, "femur_origin", row), kHipCentre_mm, 0.0, 1e-9)) << row;
+    EXPECT_TRUE(test::isApprox(pointAt(t, "pelvis_point", row), Eigen::Vector3d(10, 20, 30), 0.0, 1e-12)) << row;
+  }
+
+  const std::string csv = readText(out / "outputs.csv");
+  EXPECT_EQ(csv.substr(0, csv.find('\n')),
+            "time,hip_flexion_r,hip_adduction_r,hip_rotation_r,femur_knee.x_mm,femur_knee.y_mm,"
+            "femur_knee.z_mm,femur_origin.x_mm,femur_origin.y_mm,femur_origin.z_mm,"
+            "pelvis_point.x_mm,pelvis_point.y_mm,pelvis_point.z_mm");
+  const std::string summary = readText(out / "summary.json");
+  EXPECT_NE(summary.find("\"frames\": 81"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("component femur_knee (BodyOriginReporter)"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"median\""), std::string::npos) << summary;
+}
+
+TEST(Host, ReplacesAnEarlierOutputAndKeepsItWhenARunFails) {
+  const fs::path out = outputDir("rerun");
+  const std::string good = "run '" + (kData / "femur_point.xml").string() + "' -o '" + out.string() + "'";
+  ASSERT_EQ(runHost(good, "rerun").exit_code, 0);
+  ASSERT_EQ(runHost(good, "rerun").exit_code, 0) << "an earlier output is replaced";
+  const std::string before = readText(out / "outputs.sto");
+  const HostResult bad = runHost(
+      "run '" + (kData / "bad_reporter_pattern.xml").string() + "' -o '" + out.string() + "'", "rerun");
+  EXPECT_NE(bad.exit_code, 0);
+  EXPECT_EQ(readText(out / "outputs.sto"), before) << "a failed run leaves OUTDIR unchanged";
+}
+
+TEST(Host, WritesFrameMeshesOnlyWhenAsked) {
+  const fs::path out = outputDir("frames_mesh");
+  const HostResult r = runHost("run '" + (kData / "femur_point.xml").string() + "' -o '" +
+                                   out.string() + "' --frames-mesh --quiet",
+                               "frames_mesh");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(fs::is_directory(out / "meshes")) << "BodyOriginReporter has no geometry: empty";
+  EXPECT_EQ(r.err.find("frame 81/81"), std::string::npos) << "--quiet prints no progress";
+}
+
+TEST(Host, InfoListsPluginTypesWithPropertiesSocketsAndOutputs) {
+  const HostResult r = runHost("info -L rbfmuscle_testplugin", "info");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("BodyOriginReporter"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("point_mm (Vector3, default 0 0 0)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("socket_body (body)"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("x_mm (double, mm)"), std::string::npos) << r.out;
+  const HostResult none = runHost("info", "info_none");
+  EXPECT_EQ(none.exit_code, 0);
+  EXPECT_EQ(none.out.find("BodyOriginReporter"), std::string::npos);
+}
+
+TEST(Host, BadCommandLineGivesUsageAndExitCode2) {
+  for (const std::string args : {"", "simulate x.xml", "run --bogus", "run a.xml", "info -o x"}) {
+    const HostResult r = runHost(args, "usage");
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_EQ(r.err.rfind("rbfmuscle: error: ", 0), 0u) << r.err;
+    EXPECT_NE(r.err.find("usage: rbfmuscle COMMAND"), std::string::npos) << r.err;
+  }
+  EXPECT_EQ(runHost("run --help", "help").exit_code, 0);
+}
+
+TEST(HostErrors, UnknownClassListsRegisteredOnes) {
+  expectFailure("bad_unknown_class", {"bad_unknown_class.xml:7: <HillMuscle name=\"m\">",
+                                      "unknown component class 'HillMuscle'",
+                                      "(registered: BodyOriginReporter)"});
+}
+TEST(HostErrors, WrongTypedProperty) {
+  expectFailure("bad_property_type", {"bad_property_type.xml:8: <point_mm> in <BodyOriginReporter name=\"knee\">",
+                                      "expected three numbers", "'0 minus400 0'"});
+}
+TEST(HostErrors, UnknownProperty) {
+  expectFailure("bad_unknown_property", {"bad_unknown_property.xml:9: <radius_mm>",
+                                         "unknown property 'radius_mm'", "properties: point_mm"});
+}
+TEST(HostErrors, UnknownSocketTargetListsBodies) {
+  expectFailure("bad_socket_target", {"bad_socket_target.xml:7: <BodyOriginReporter name=\"knee\">",
+                                      "unknown body 'tibia_r'", "pelvis", "femur_r"});
+}
+TEST(HostErrors, MissingUrdf) {
+  expectFailure("bad_missing_urdf", {"bad_missing_urdf.xml:3: <skeleton>", "no_such_hip.urdf"});
+}
+TEST(HostErrors, MissingMesh) {
+  expectFailure("bad_missing_mesh", {"bad_missing_mesh.xml:3: <skeleton>", "femur_r_missing.ply"});
+}
+TEST(HostErrors, MotionWithUnknownCoordinate) {
+  expectFailure("bad_motion_coordinate", {"bad_motion_coordinate.xml:5: <motion>", "knee_angle_r"});
+}
+TEST(HostErrors, MissingOrUnsupportedVersion) {
+  expectFailure("bad_no_version", {"bad_no_version.xml:2: <RBFMuscleModel", "missing attribute 'version'"});
+  expectFailure("bad_version", {"bad_version.xml:2:", "unsupported version '7'"});
+}
+TEST(HostErrors, ReporterPatternMatchingNoOutputFailsAfterStagingWithoutLeftovers) {
+  expectFailure("bad_reporter_pattern", {"bad_reporter_pattern.xml:9: <reporter>", "'knee.w_mm'", "knee.x_mm"});
+}
+TEST(HostErrors, PluginNotFound) {
+  expectFailure("femur_point", {"plugin no_such_plugin: not found (tried: no_such_plugin",
+                                "libno_such_plugin.so"},
+                "-L no_such_plugin", "plugin_not_found");
+}
+TEST(HostErrors, PluginWithoutEntryPoint) {
+  const std::string lib = (kPluginDir / "librbfmuscle_model.so").string();
+  expectFailure("femur_point", {"plugin " + lib + ": no entry point rbfmuscle_register_types"},
+                "-L '" + lib + "'", "plugin_no_entry");
+}
+TEST(HostErrors, PluginThatIsNoLibrary) {
+  const std::string file = (kData / "femur_point.xml").string();
+  expectFailure("femur_point", {"plugin " + file + ": ", "femur_point.xml"}, "-L '" + file + "'", "plugin_not_library");
+}
+
+}  // namespace
+}  // namespace rbfmuscle
