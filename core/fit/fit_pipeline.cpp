@@ -1,0 +1,104 @@
+#include "fit/fit_pipeline.h"
+
+#include <chrono>
+#include <cmath>
+
+#include "fit/sample_set.h"
+#include "geometry/mesh_check.h"
+#include "geometry/mesh_distance.h"
+#include "geometry/mesh_io.h"
+
+namespace rbfmuscle {
+namespace {
+
+std::string getFileName(const std::string& path) {
+  const std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? path : path.substr(slash + 1);
+}
+
+/// The validated mesh in the muscle frame and what fitting needs of it.
+struct PreparedMesh {
+  TriangleMesh mesh_M;
+  Eigen::Vector3d offset_mm;
+  std::string hash;
+};
+
+PreparedMesh prepareMesh(const std::string& mesh_path, bool fix_winding) {
+  PreparedMesh prepared;
+  prepared.mesh_M = loadMesh(mesh_path);
+  if (fix_winding) orientConsistently(prepared.mesh_M);
+  validateMesh(prepared.mesh_M, mesh_path);
+  const Eigen::AlignedBox3d box(prepared.mesh_M.vertices_mm.rowwise().minCoeff(),
+                                prepared.mesh_M.vertices_mm.rowwise().maxCoeff());
+  prepared.offset_mm = box.center();
+  prepared.mesh_M.vertices_mm.colwise() -= prepared.offset_mm;
+  prepared.hash = hashFile(mesh_path);
+  return prepared;
+}
+
+MeshFit fitPrepared(const PreparedMesh& prepared, const std::string& mesh_path,
+                    const FitSettings& settings, const FitProgressFn& progress) {
+  const auto start = std::chrono::steady_clock::now();
+  const MeshDistance distance(prepared.mesh_M);
+  const SampleSet samples = buildSamples(prepared.mesh_M, distance, settings);
+  GreedyFitResult fit = fitGreedy(samples, settings, progress);
+  MeshFit result;
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  result.rounds = fit.rounds;
+  result.stop_reason = fit.stop_reason;
+  result.final_refit = fit.final_refit;
+  result.metrics = measureFit(fit.field, distance, samples.box_mm, settings);
+  result.surface.field = std::move(fit.field);
+  result.surface.frame_offset_mm = prepared.offset_mm;
+  result.surface.source_mesh = getFileName(mesh_path);
+  result.surface.source_hash = prepared.hash;
+  result.surface.settings = describeSettings(settings);
+  result.surface.metrics_json =
+      formatMetricsJson(result.metrics, result.surface.field.getNumCentres(), result.seconds);
+  return result;
+}
+
+}  // namespace
+
+MeshFit fitMeshFile(const std::string& mesh_path, const FitSettings& settings, bool fix_winding,
+                    const FitProgressFn& progress) {
+  return fitPrepared(prepareMesh(mesh_path, fix_winding), mesh_path, settings, progress);
+}
+
+MeshFit fitMeshFileGlobalShape(const std::string& mesh_path, FitSettings settings, bool fix_winding,
+                               double alpha_lo, double alpha_hi, int evaluations,
+                               const std::function<void(double, double)>& report) {
+  if (!(alpha_lo > 0 && alpha_hi > alpha_lo))
+    throw std::invalid_argument("global shape search needs 0 < alpha_lo < alpha_hi");
+  const PreparedMesh prepared = prepareMesh(mesh_path, fix_winding);
+  auto fitAt = [&](double log_alpha) {
+    settings.global_shape_per_mm2 = std::exp(log_alpha);
+    MeshFit fit = fitPrepared(prepared, mesh_path, settings, {});
+    if (report) report(settings.global_shape_per_mm2, fit.metrics.metric);
+    return fit;
+  };
+  // Golden-section search on log α: C_m is unimodal enough in α for the
+  // bracket to close on the best shape; each evaluation is one full fit.
+  const double ratio = (std::sqrt(5.0) - 1.0) / 2.0;
+  double a = std::log(alpha_lo), b = std::log(alpha_hi);
+  double c = b - ratio * (b - a), d = a + ratio * (b - a);
+  MeshFit fit_c = fitAt(c), fit_d = fitAt(d);
+  for (int used = 2; used < evaluations; ++used) {
+    if (fit_c.metrics.metric <= fit_d.metrics.metric) {
+      b = d;
+      d = c;
+      fit_d = std::move(fit_c);
+      c = b - ratio * (b - a);
+      fit_c = fitAt(c);
+    } else {
+      a = c;
+      c = d;
+      fit_c = std::move(fit_d);
+      d = a + ratio * (b - a);
+      fit_d = fitAt(d);
+    }
+  }
+  return fit_c.metrics.metric <= fit_d.metrics.metric ? std::move(fit_c) : std::move(fit_d);
+}
+
+}  // namespace rbfmuscle

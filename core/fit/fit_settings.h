@@ -1,0 +1,40 @@
+#pragma once
+/// @file
+/// Every knob of the static fit, with its default and unit. Written into the
+/// .rbf file so a fitted surface records how it was made.
+#include <string>
+#include <vector>
+
+namespace rbfmuscle {
+
+/// Settings of the greedy Gaussian fit (dissertation Alg. 2 with a joint
+/// least-squares refit of the weights; see greedy_fitter.h).
+struct FitSettings {
+  int max_centres = 1000;          ///< centre budget N
+  double tolerance_mm = 0.0;       ///< stop early when the RMS residual on surface samples ≤ this (0 = budget only)
+  double clamp_mm = 5.0;           ///< τ: target t(x) = clamp(−s(x), −τ, τ), offset b = −τ (mm)
+  double normal_offset_mm = 1.0;   ///< d: samples ±d along the vertex normals (mm)
+  int halton_samples = 30000;      ///< Halton(2,3,5) samples in the padded box
+  double padding_fraction = 0.1;   ///< box padding, fraction of the largest box side on each side
+  /// Shape set α (mm⁻²) the greedy step chooses from; σ = α^−½ from ~45 mm to ~1.4 mm.
+  std::vector<double> shapes_per_mm2 = {0.0005, 0.001, 0.002, 0.005, 0.01, 0.02,
+                                        0.05, 0.1, 0.2, 0.5};
+  double regularisation_gamma = 0.9;  ///< γ of eq. 7.12: 1 = pure error, lower = prefer wide shapes near the surface
+  double ridge = 1e-6;             ///< Tikhonov weight μ on ‖λ‖², relative to the mean column norm²
+  int candidates_per_round = 64;   ///< samples of largest residual scored per round
+  double batch_fraction = 0.05;    ///< centres added per round, as a fraction of the current count (≥ 1)
+  int score_samples = 15000;       ///< samples used to score candidates (a fixed subset)
+  int refit_iterations = 40;       ///< conjugate-gradient cap per refit of λ
+  int final_refit_iterations = 400;///< conjugate-gradient cap for the last refit
+  double refit_tolerance = 1e-7;   ///< relative residual of the normal equations that stops a refit
+  double cutoff = 1e-8;            ///< ε: a centre is ignored where φ < ε
+  double metric_sigma = 0.5;       ///< σ of C_m = (1−σ)(1−Jaccard) + σ·MSE/MSE_max
+  int metric_points = 200000;      ///< Halton points for the Jaccard index and MSE (≥ 1e5)
+  double surface_cell_mm = 1.0;    ///< grid cell of the extracted surface (mm)
+  double global_shape_per_mm2 = 0; ///< > 0: one shape α for every centre (no choice per centre)
+};
+
+/// One line `key=value key=value …` describing the settings (for files and logs).
+std::string describeSettings(const FitSettings& settings);
+
+}  // namespace rbfmuscle

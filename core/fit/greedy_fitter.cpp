@@ -1,0 +1,277 @@
+#include "fit/greedy_fitter.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+#include "rbf/spatial_grid.h"
+
+namespace rbfmuscle {
+namespace {
+
+/// φ below this is ignored when scoring candidates (scores are a guide; the
+/// exact weights come from the refit).
+constexpr double kScoreCutoff = 1e-4;
+
+/// The best shape for one candidate sample.
+struct CandidateChoice {
+  int sample = -1;
+  double shape = 0.0;         ///< α (mm⁻²)
+  double weight = 0.0;        ///< optimal single-Gaussian weight g/h
+  double score = 0.0;         ///< g²/h: error reduction on the scoring subset
+  double regularised = 1e300; ///< C_r of eq. 7.12 (lower is better)
+};
+
+double calcRms(const Eigen::VectorXd& values) {
+  return values.size() ? std::sqrt(values.squaredNorm() / static_cast<double>(values.size())) : 0.0;
+}
+
+class GreedyFitter {
+ public:
+  GreedyFitter(const SampleSet& samples, const FitSettings& settings)
+      : samples_(samples), settings_(settings), design_(samples.getNumSamples()) {
+    if (settings.max_centres < 1) throw std::invalid_argument("fit: max_centres must be ≥ 1");
+    shapes_ = settings.global_shape_per_mm2 > 0
+                  ? std::vector<double>{settings.global_shape_per_mm2}
+                  : settings.shapes_per_mm2;
+    if (shapes_.empty()) throw std::invalid_argument("fit: the shape set is empty");
+    for (double a : shapes_)
+      if (!(a > 0) || !std::isfinite(a))
+        throw std::invalid_argument("fit: shape " + std::to_string(a) + " mm^-2 is not > 0");
+    alpha_max_ = *std::max_element(shapes_.begin(), shapes_.end());
+    const double alpha_min = *std::min_element(shapes_.begin(), shapes_.end());
+    offset_ = -settings.clamp_mm;
+    y_ = (samples.target.array() - offset_).matrix();
+    residual_ = y_;
+    s_max_ = std::max(samples.signed_distance_mm.cwiseAbs().maxCoeff(), 1e-9);
+    for (int i = 0; i < samples.getNumSamples(); ++i)
+      if (samples.kinds[i] == SampleKind::kSurface) surface_rows_.push_back(i);
+
+    // A fixed, evenly strided subset scores candidates.
+    const int S = samples.getNumSamples();
+    const int stride = std::max(1, S / std::max(1, settings.score_samples));
+    for (int i = 0; i < S; i += stride) score_rows_.push_back(i);
+    Eigen::Matrix3Xd score_points(3, score_rows_.size());
+    for (std::size_t n = 0; n < score_rows_.size(); ++n)
+      score_points.col(n) = samples.points_mm.col(score_rows_[n]);
+    score_scale_ = static_cast<double>(S) / static_cast<double>(score_rows_.size());
+    const double score_radius = std::sqrt(std::log(1.0 / kScoreCutoff) / alpha_min);
+    score_grid_.build(score_points, std::max(2.0, score_radius / 8.0));
+    sample_grid_.build(samples.points_mm, 4.0);
+  }
+
+  GreedyFitResult run(const FitProgressFn& progress) {
+    GreedyFitResult result;
+    const double min_separation = 2.0 * settings_.normal_offset_mm;
+    while (getNumCentres() < settings_.max_centres) {
+      ++result.rounds;
+      const int remaining = settings_.max_centres - getNumCentres();
+      const int batch = std::min(
+          remaining, std::max(1, static_cast<int>(std::ceil(settings_.batch_fraction * getNumCentres()))));
+      const std::vector<int> candidates =
+          pickCandidates(std::max(settings_.candidates_per_round, 3 * batch), min_separation);
+      const std::vector<CandidateChoice> accepted = chooseCentres(candidates, batch);
+      if (accepted.empty()) {
+        result.stop_reason = "no candidate reduces the error";
+        break;
+      }
+      for (const CandidateChoice& choice : accepted) addCentre(choice);
+      refit(settings_.refit_iterations);
+      const FitProgress state = makeProgress(result.rounds);
+      if (progress) progress(state);
+      if (settings_.tolerance_mm > 0 && state.rms_surface_mm <= settings_.tolerance_mm) {
+        result.stop_reason = "tolerance";
+        break;
+      }
+    }
+    if (result.stop_reason.empty()) result.stop_reason = "centre budget";
+    result.final_refit = refit(settings_.final_refit_iterations);
+    const FitProgress final_state = makeProgress(result.rounds);
+    result.rms_surface_mm = final_state.rms_surface_mm;
+    result.rms_all_mm = final_state.rms_all_mm;
+    result.field = GaussianField(offset_, centres_, lambda_, centre_shapes_, settings_.cutoff);
+    return result;
+  }
+
+ private:
+  int getNumCentres() const { return static_cast<int>(centre_shapes_.size()); }
+
+  /// Samples of largest |residual|, each at least `separation` from the others.
+  std::vector<int> pickCandidates(int count, double separation) const {
+    const int S = samples_.getNumSamples();
+    std::vector<int> order(S);
+    std::iota(order.begin(), order.end(), 0);
+    const int pool = std::min(S, 40 * count);
+    auto larger = [&](int a, int b) {
+      const double ra = std::abs(residual_[a]), rb = std::abs(residual_[b]);
+      return ra != rb ? ra > rb : a < b;
+    };
+    std::partial_sort(order.begin(), order.begin() + pool, order.end(), larger);
+    std::vector<int> picked;
+    const double separation2 = separation * separation;
+    for (int n = 0; n < pool && static_cast<int>(picked.size()) < count; ++n) {
+      const Eigen::Vector3d p = samples_.points_mm.col(order[n]);
+      bool far = true;
+      for (int q : picked)
+        if ((samples_.points_mm.col(q) - p).squaredNorm() < separation2) {
+          far = false;
+          break;
+        }
+      if (far) picked.push_back(order[n]);
+    }
+    return picked;
+  }
+
+  /// Scores every candidate with every shape and returns up to `batch`
+  /// non-overlapping choices, best regularised cost first.
+  std::vector<CandidateChoice> chooseCentres(const std::vector<int>& candidates, int batch) const {
+    const int C = static_cast<int>(candidates.size());
+    const int A = static_cast<int>(shapes_.size());
+    std::vector<CandidateChoice> scored(static_cast<std::size_t>(C) * A);
+#pragma omp parallel
+    {
+      std::vector<int> near;
+#pragma omp for schedule(dynamic, 1)
+      for (int c = 0; c < C; ++c) scoreCandidate(candidates[c], near, &scored[static_cast<std::size_t>(c) * A]);
+    }
+    double best_score = 0.0;
+    for (const CandidateChoice& s : scored) best_score = std::max(best_score, s.score);
+    if (!(best_score > 0)) return {};
+
+    const double gamma = settings_.regularisation_gamma;
+    std::vector<CandidateChoice> best_per_candidate;
+    for (int c = 0; c < C; ++c) {
+      CandidateChoice best;
+      for (int a = 0; a < A; ++a) {
+        CandidateChoice s = scored[static_cast<std::size_t>(c) * A + a];
+        if (!(s.score > 0)) continue;
+        const double distance = std::abs(samples_.signed_distance_mm[s.sample]);
+        s.regularised = gamma * (1.0 - s.score / best_score) +
+                        (1.0 - gamma) * (distance / s_max_) * (s.shape / alpha_max_);
+        if (s.regularised < best.regularised) best = s;
+      }
+      if (best.sample >= 0) best_per_candidate.push_back(best);
+    }
+    std::stable_sort(best_per_candidate.begin(), best_per_candidate.end(),
+                     [](const CandidateChoice& a, const CandidateChoice& b) { return a.regularised < b.regularised; });
+
+    // Two new centres of one batch must not cover the same error: keep them
+    // at least the wider one's σ = α^−½ apart.
+    std::vector<CandidateChoice> accepted;
+    for (const CandidateChoice& choice : best_per_candidate) {
+      if (static_cast<int>(accepted.size()) >= batch) break;
+      const Eigen::Vector3d p = samples_.points_mm.col(choice.sample);
+      bool apart = true;
+      for (const CandidateChoice& other : accepted) {
+        const double sigma = 1.0 / std::sqrt(std::min(choice.shape, other.shape));
+        if ((samples_.points_mm.col(other.sample) - p).norm() < sigma) {
+          apart = false;
+          break;
+        }
+      }
+      if (apart) accepted.push_back(choice);
+    }
+    return accepted;
+  }
+
+  /// Fills out[a] with the single-Gaussian score of centre at `sample` with shape a.
+  void scoreCandidate(int sample, std::vector<int>& near, CandidateChoice* out) const {
+    const Eigen::Vector3d centre = samples_.points_mm.col(sample);
+    const double log_inv = std::log(1.0 / kScoreCutoff);
+    double widest = 1e300;
+    for (double a : shapes_) widest = std::min(widest, a);
+    score_grid_.findWithinRadius(centre, std::sqrt(log_inv / widest), near);
+    const double side = samples_.signed_distance_mm[sample];
+    const Eigen::Matrix3Xd& points = score_grid_.getPoints();
+    for (std::size_t a = 0; a < shapes_.size(); ++a) {
+      const double alpha = shapes_[a];
+      const double r2_max = log_inv / alpha;
+      double g = 0.0, h = 0.0;
+      for (int n : near) {
+        const double r2 = (points.col(n) - centre).squaredNorm();
+        if (r2 > r2_max) continue;
+        const double phi = std::exp(-alpha * r2);
+        g += phi * residual_[score_rows_[n]];
+        h += phi * phi;
+      }
+      CandidateChoice& choice = out[a];
+      choice.sample = sample;
+      choice.shape = alpha;
+      if (h <= 0) continue;
+      choice.weight = g / h;
+      // Inside the mesh a centre adds volume, outside it carves: a centre of
+      // the wrong sign only cancels its neighbours and roughens the curvature.
+      const bool wrong_side = (side < 0 && choice.weight < 0) || (side > 0 && choice.weight > 0);
+      choice.score = wrong_side ? 0.0 : score_scale_ * g * g / h;
+    }
+  }
+
+  void addCentre(const CandidateChoice& choice) {
+    const Eigen::Vector3d centre = samples_.points_mm.col(choice.sample);
+    const double radius = std::sqrt(std::log(1.0 / settings_.cutoff) / choice.shape);
+    std::vector<int> rows;
+    sample_grid_.findWithinRadius(centre, radius, rows);
+    std::vector<double> values(rows.size());
+    for (std::size_t n = 0; n < rows.size(); ++n)
+      values[n] = std::exp(-choice.shape * (samples_.points_mm.col(rows[n]) - centre).squaredNorm());
+    design_.appendColumn(std::move(rows), std::move(values));
+    const int k = getNumCentres();
+    centres_.conservativeResize(3, k + 1);
+    centres_.col(k) = centre;
+    centre_shapes_.conservativeResize(k + 1);
+    centre_shapes_[k] = choice.shape;
+    lambda_.conservativeResize(k + 1);
+    lambda_[k] = choice.weight;
+  }
+
+  RefitReport refit(int max_iterations) {
+    const Eigen::VectorXd norms = design_.calcColumnNormsSquared();
+    const double mu = settings_.ridge * norms.mean();
+    const RefitReport report =
+        refitWeights(design_, y_, mu, max_iterations, settings_.refit_tolerance, lambda_);
+    Eigen::VectorXd fitted;
+    design_.multiply(lambda_, fitted);
+    residual_ = y_ - fitted;
+    return report;
+  }
+
+  FitProgress makeProgress(int round) const {
+    FitProgress state;
+    state.round = round;
+    state.centres = getNumCentres();
+    state.max_centres = settings_.max_centres;
+    Eigen::VectorXd surface(surface_rows_.size());
+    for (std::size_t n = 0; n < surface_rows_.size(); ++n) surface[n] = residual_[surface_rows_[n]];
+    state.rms_surface_mm = calcRms(surface);
+    state.rms_all_mm = calcRms(residual_);
+    return state;
+  }
+
+  const SampleSet& samples_;
+  const FitSettings& settings_;
+  std::vector<double> shapes_;
+  double alpha_max_ = 1.0;
+  double offset_ = 0.0;
+  double s_max_ = 1.0;
+  double score_scale_ = 1.0;
+  Eigen::VectorXd y_;         ///< t − b at every sample
+  Eigen::VectorXd residual_;  ///< t − f at every sample
+  std::vector<int> surface_rows_;
+  std::vector<int> score_rows_;
+  SpatialGrid score_grid_;
+  SpatialGrid sample_grid_;
+  DesignMatrix design_;
+  Eigen::Matrix3Xd centres_;
+  Eigen::VectorXd centre_shapes_;
+  Eigen::VectorXd lambda_;
+};
+
+}  // namespace
+
+GreedyFitResult fitGreedy(const SampleSet& samples, const FitSettings& settings,
+                          const FitProgressFn& progress) {
+  return GreedyFitter(samples, settings).run(progress);
+}
+
+}  // namespace rbfmuscle

@@ -1,0 +1,61 @@
+#include "fit/sample_set.h"
+
+#include "fit/halton.h"
+#include "geometry/mesh_distance.h"
+
+namespace rbfmuscle {
+
+Eigen::Matrix3Xd calcVertexNormals(const TriangleMesh& mesh) {
+  Eigen::Matrix3Xd normals = Eigen::Matrix3Xd::Zero(3, mesh.vertices_mm.cols());
+  for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
+    const Eigen::Vector3i tri = mesh.triangles.col(t);
+    const Eigen::Vector3d a = mesh.vertices_mm.col(tri[0]);
+    // Cross product length = 2 × area: area weighting comes for free.
+    const Eigen::Vector3d n =
+        (mesh.vertices_mm.col(tri[1]) - a).cross(mesh.vertices_mm.col(tri[2]) - a);
+    for (int c = 0; c < 3; ++c) normals.col(tri[c]) += n;
+  }
+  for (Eigen::Index v = 0; v < normals.cols(); ++v) {
+    const double length = normals.col(v).norm();
+    if (length > 0) normals.col(v) /= length;
+  }
+  return normals;
+}
+
+Eigen::AlignedBox3d calcPaddedBox(const TriangleMesh& mesh, double padding_fraction) {
+  Eigen::AlignedBox3d box(mesh.vertices_mm.rowwise().minCoeff(),
+                          mesh.vertices_mm.rowwise().maxCoeff());
+  const double pad = padding_fraction * box.sizes().maxCoeff();
+  box.min().array() -= pad;
+  box.max().array() += pad;
+  return box;
+}
+
+SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance,
+                       const FitSettings& settings) {
+  const Eigen::Index V = mesh_M.vertices_mm.cols();
+  const Eigen::Matrix3Xd normals = calcVertexNormals(mesh_M);
+  SampleSet samples;
+  samples.box_mm = calcPaddedBox(mesh_M, settings.padding_fraction);
+  const Eigen::Matrix3Xd halton = makeHaltonPoints(samples.box_mm, settings.halton_samples);
+
+  const Eigen::Index S = 3 * V + halton.cols();
+  samples.points_mm.resize(3, S);
+  samples.points_mm.leftCols(V) = mesh_M.vertices_mm;
+  samples.points_mm.middleCols(V, V) = mesh_M.vertices_mm - settings.normal_offset_mm * normals;
+  samples.points_mm.middleCols(2 * V, V) = mesh_M.vertices_mm + settings.normal_offset_mm * normals;
+  samples.points_mm.rightCols(halton.cols()) = halton;
+  samples.kinds.assign(S, SampleKind::kHalton);
+  std::fill_n(samples.kinds.begin(), V, SampleKind::kSurface);
+  std::fill_n(samples.kinds.begin() + V, V, SampleKind::kOffsetIn);
+  std::fill_n(samples.kinds.begin() + 2 * V, V, SampleKind::kOffsetOut);
+
+  samples.signed_distance_mm = distance.calcSignedDistances(samples.points_mm);
+  // Vertices lie on the surface by definition; the query only adds round-off there.
+  samples.signed_distance_mm.head(V).setZero();
+  const double tau = settings.clamp_mm;
+  samples.target = (-samples.signed_distance_mm).cwiseMax(-tau).cwiseMin(tau);
+  return samples;
+}
+
+}  // namespace rbfmuscle

@@ -1,0 +1,41 @@
+#pragma once
+/// @file
+/// Fitting samples (dissertation Alg. 2, lines 3–7): mesh vertices, points ±d
+/// along the vertex normals, Halton(2,3,5) points in the padded box, each with
+/// its clamped signed-distance target.
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "fit/fit_settings.h"
+#include "geometry/triangle_mesh.h"
+
+namespace rbfmuscle {
+
+class MeshDistance;
+
+/// Where a sample came from.
+enum class SampleKind : unsigned char { kSurface, kOffsetIn, kOffsetOut, kHalton };
+
+/// Samples in the muscle frame M (mm).
+struct SampleSet {
+  Eigen::Matrix3Xd points_mm;          ///< 3×S sample positions
+  Eigen::VectorXd signed_distance_mm;  ///< s(x): negative inside, positive outside
+  Eigen::VectorXd target;              ///< t(x) = clamp(−s(x), −τ, τ) (mm)
+  std::vector<SampleKind> kinds;       ///< origin of each sample
+  Eigen::AlignedBox3d box_mm;          ///< padded bounding box the samples fill
+  int getNumSamples() const { return static_cast<int>(points_mm.cols()); }
+};
+
+/// Area-weighted unit vertex normals of a closed, outward-wound mesh (3×V).
+Eigen::Matrix3Xd calcVertexNormals(const TriangleMesh& mesh);
+
+/// The box of `mesh` padded by `padding_fraction` of its largest side on every side.
+Eigen::AlignedBox3d calcPaddedBox(const TriangleMesh& mesh, double padding_fraction);
+
+/// Builds the samples for `mesh_M` (already in the muscle frame). Targets come
+/// from the exact signed distance (so an inward offset that crosses a thin
+/// part still gets its true value).
+SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance,
+                       const FitSettings& settings);
+
+}  // namespace rbfmuscle
