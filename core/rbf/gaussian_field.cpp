@@ -1,5 +1,6 @@
 #include "rbf/gaussian_field.h"
 
+#include "rbf/ascending_indices.h"
 #include "rbf/gaussian_terms.h"
 
 #include <algorithm>
@@ -15,6 +16,8 @@ namespace {
 /// Relative padding of a class's query radius, so that rounding in the
 /// distance test of the grid never drops a centre the cut-off test keeps.
 constexpr double kQueryRadiusPadding = 1e-9;
+/// Grid cell edge of a class with radii in [2^(e−1), 2^e): 2^(e + offset) mm.
+constexpr int kCellExponentOffset = -1;
 
 [[noreturn]] void throwInvalid(const std::string& what) {
   throw std::invalid_argument("GaussianField: " + what);
@@ -189,7 +192,7 @@ void GaussianField::rebuildClass(RadiusClass& rc) {
     radius = std::max(radius, gaussian::calcCutoffRadius(shapes_per_mm2_[k], cutoff_));
   }
   rc.query_radius_mm = radius * (1.0 + kQueryRadiusPadding);
-  rc.grid.build(rc.positions_mm, std::ldexp(1.0, rc.exponent));
+  rc.grid.build(rc.positions_mm, std::ldexp(1.0, rc.exponent + kCellExponentOffset));
 }
 
 template <class Visitor>
@@ -206,15 +209,23 @@ void GaussianField::visitActive(const Eigen::Vector3d& p_mm, Visitor&& visit) co
     for (int k = 0; k < centres_mm_.cols(); ++k) consider(k);
     return;
   }
-  thread_local std::vector<int> local;
-  thread_local std::vector<int> merged;
-  merged.clear();
-  for (const RadiusClass& rc : classes_) {
-    rc.grid.findWithinRadius(p_mm, rc.query_radius_mm, local);
-    for (int j : local) merged.push_back(rc.members[static_cast<std::size_t>(j)]);
+  // Grid path: the same cut-off test on the grid's copy of the centres (the
+  // same doubles, so the same r²), collecting active centres, then visiting
+  // them in ascending order.
+  thread_local std::vector<int> active;
+  active.clear();
+  for (const RadiusClass& rc : classes_)
+    rc.grid.visitCandidates(p_mm, rc.query_radius_mm, [&](int j, const auto& centre) {
+      const int k = rc.members[static_cast<std::size_t>(j)];
+      const Eigen::Vector3d d = p_mm - centre;
+      if (shapes_per_mm2_[k] * d.squaredNorm() <= log_inv_cutoff_) active.push_back(k);
+    });
+  sortAscendingIndices(active, static_cast<int>(centres_mm_.cols()));
+  for (int k : active) {
+    const Eigen::Vector3d d = p_mm - centres_mm_.col(k);
+    const double r2 = d.squaredNorm();
+    visit(k, gaussian::calcPhi(shapes_per_mm2_[k], r2), d, r2);
   }
-  if (classes_.size() > 1) std::sort(merged.begin(), merged.end());
-  for (int k : merged) consider(k);
 }
 
 void GaussianField::findActiveCentres(const Eigen::Vector3d& p_mm, ActiveCentres& out) const {

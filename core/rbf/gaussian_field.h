@@ -47,7 +47,8 @@ struct ActiveCentres {
 ///
 /// Acceleration: centres are grouped by cut-off radius into power-of-two
 /// classes (r ∈ [2^(e−1), 2^e) mm), one SpatialGrid per class with cell size
-/// 2^e mm, so a point visits only nearby centres whatever the mix of shapes. The
+/// 2^(e−1) mm, so a point visits only nearby centres whatever the mix of
+/// shapes (a class whose cells would all be visited is scanned linearly). The
 /// grid path and the brute-force path (setUseGrid(false), or ε = 0) apply the
 /// same cut-off test and sum in ascending centre index, so they give bitwise
 /// identical results.
@@ -142,7 +143,7 @@ class GaussianField {
     double query_radius_mm = 0.0;  ///< largest cut-off radius in the class, slightly padded
     std::vector<int> members;      ///< global centre indices, ascending
     Eigen::Matrix3Xd positions_mm; ///< centres of the members, same order
-    SpatialGrid grid;              ///< over positions_mm, cell size 2^e mm
+    SpatialGrid grid;              ///< over positions_mm, cell size 2^(e−1) mm
   };
 
   /// Checks index k, throwing std::out_of_range naming k and N.

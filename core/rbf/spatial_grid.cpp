@@ -1,5 +1,7 @@
 #include "rbf/spatial_grid.h"
 
+#include "rbf/ascending_indices.h"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -9,9 +11,16 @@ namespace rbfmuscle {
 
 namespace {
 
-/// Cell coordinates beyond this magnitude cannot be converted to int64 safely
-/// (and would lose all precision anyway).
-constexpr double kMaxCellCoordinate = 1e15;
+/// Cells allowed per point (and at least kMinCellBudget in all).
+constexpr double kCellsPerPoint = 8.0;
+constexpr double kMinCellBudget = 32768.0;
+/// Cost of visiting one row of cells, in units of one point test: above
+/// rows · kRowCost > N a query tests every point instead.
+constexpr double kRowCost = 8.0;
+/// Growth of the cell edge per try when the box needs too many cells, and the
+/// cap on tries (the cell count falls by ≥ 1.1³ per try).
+constexpr double kCellGrowth = 1.1;
+constexpr int kMaxCellTries = 400;
 
 }  // namespace
 
@@ -25,72 +34,83 @@ void SpatialGrid::build(const Eigen::Matrix3Xd& points_mm, double cell_size_mm) 
     s << "SpatialGrid::build: cell size " << cell_size_mm << " mm, expected a finite value > 0";
     throw std::invalid_argument(s.str());
   }
-  cell_size_mm_ = cell_size_mm;
-  points_mm_ = points_mm;
-  const std::size_t n = static_cast<std::size_t>(points_mm_.cols());
-  cells_.assign(n, Cell::Zero());
-  std::size_t buckets = 1;
-  while (buckets < 2 * n) buckets <<= 1;
-  bucket_mask_ = buckets - 1;
-  bucket_start_.assign(buckets + 1, 0);
-  bucket_points_.assign(n, 0);
-  fill_cursor_.assign(buckets, 0);
-  computeCells();
-  fillBuckets();
+  requested_cell_size_mm_ = cell_size_mm;
+  update(points_mm);
 }
 
 void SpatialGrid::update(const Eigen::Matrix3Xd& points_mm) {
-  if (points_mm.cols() != points_mm_.cols()) {
-    build(points_mm, cell_size_mm_);
+  for (Eigen::Index i = 0; i < points_mm.cols(); ++i)
+    if (!points_mm.col(i).allFinite()) {
+      std::ostringstream s;
+      s << "SpatialGrid: point " << i << " = (" << points_mm.col(i).transpose()
+        << ") mm, expected finite coordinates";
+      throw std::invalid_argument(s.str());
+    }
+  points_mm_ = points_mm;
+  index();
+}
+
+void SpatialGrid::index() {
+  const Eigen::Index n = points_mm_.cols();
+  cell_size_mm_ = requested_cell_size_mm_;
+  if (n == 0) {
+    dims_.setZero();
+    cell_start_.assign(1, 0);
+    sorted_index_.clear();
+    point_cell_.clear();
+    sorted_points_mm_.resize(3, 0);
     return;
   }
-  points_mm_ = points_mm;
-  if (computeCells()) fillBuckets();
-}
-
-bool SpatialGrid::computeCells() {
-  const double inv_h = 1.0 / cell_size_mm_;
-  bool changed = false;
-  for (Eigen::Index i = 0; i < points_mm_.cols(); ++i) {
-    Cell c;
-    for (int a = 0; a < 3; ++a) {
-      const double x = points_mm_(a, i) * inv_h;
-      if (!(std::abs(x) < kMaxCellCoordinate)) {
-        std::ostringstream s;
-        s << "SpatialGrid: point " << i << " coordinate " << a << " = " << points_mm_(a, i)
-          << " mm, expected a finite value with |x / cell size| < 1e15 (cell size "
-          << cell_size_mm_ << " mm)";
-        throw std::invalid_argument(s.str());
-      }
-      c[a] = static_cast<std::int64_t>(std::floor(x));
-    }
-    if (c != cells_[static_cast<std::size_t>(i)]) {
-      cells_[static_cast<std::size_t>(i)] = c;
-      changed = true;
-    }
+  origin_mm_ = points_mm_.rowwise().minCoeff();
+  const Eigen::Vector3d extent = points_mm_.rowwise().maxCoeff() - origin_mm_;
+  if (!extent.allFinite()) {
+    std::ostringstream s;
+    s << "SpatialGrid: points span (" << extent.transpose()
+      << ") mm, expected a finite bounding box";
+    throw std::invalid_argument(s.str());
   }
-  return changed;
-}
-
-std::size_t SpatialGrid::findBucket(const Cell& cell) const {
-  // Teschner et al. (2003) spatial hash, on 64-bit unsigned arithmetic.
-  const auto x = static_cast<std::uint64_t>(cell[0]) * 73856093ULL;
-  const auto y = static_cast<std::uint64_t>(cell[1]) * 19349663ULL;
-  const auto z = static_cast<std::uint64_t>(cell[2]) * 83492791ULL;
-  std::uint64_t h = x ^ y ^ z;
-  h ^= h >> 29;
-  return static_cast<std::size_t>(h) & bucket_mask_;
-}
-
-void SpatialGrid::fillBuckets() {
-  std::fill(bucket_start_.begin(), bucket_start_.end(), 0);
-  for (const Cell& c : cells_) ++bucket_start_[findBucket(c) + 1];
-  for (std::size_t b = 0; b + 1 < bucket_start_.size(); ++b)
-    bucket_start_[b + 1] += bucket_start_[b];
-  std::copy(bucket_start_.begin(), bucket_start_.end() - 1, fill_cursor_.begin());
-  for (std::size_t i = 0; i < cells_.size(); ++i)
-    bucket_points_[static_cast<std::size_t>(fill_cursor_[findBucket(cells_[i])]++)] =
-        static_cast<int>(i);
+  // At most 1e6 cells per axis to start with, then grow until within budget.
+  cell_size_mm_ = std::max(cell_size_mm_, extent.maxCoeff() * 1e-6);
+  const double budget = std::max(kCellsPerPoint * static_cast<double>(n), kMinCellBudget);
+  Eigen::Vector3d dims;
+  for (int tries = 0;; ++tries) {
+    dims = (extent / cell_size_mm_).array().floor() + 1.0;
+    if (dims.prod() <= budget) break;
+    if (tries == kMaxCellTries) {
+      std::ostringstream s;
+      s << "SpatialGrid: no cell size up to " << cell_size_mm_ << " mm fits box ("
+        << extent.transpose() << ") mm into " << budget << " cells";
+      throw std::runtime_error(s.str());
+    }
+    cell_size_mm_ *= std::max(kCellGrowth, std::cbrt(dims.prod() / budget));
+  }
+  dims_ = dims.cast<int>();
+  const double inv_h = 1.0 / cell_size_mm_;
+  const int cells = dims_.prod();
+  cell_start_.assign(static_cast<std::size_t>(cells) + 1, 0);
+  point_cell_.resize(static_cast<std::size_t>(n));
+  for (Eigen::Index i = 0; i < n; ++i) {
+    int c[3];
+    for (int a = 0; a < 3; ++a)
+      c[a] = std::min(static_cast<int>((points_mm_(a, i) - origin_mm_[a]) * inv_h), dims_[a] - 1);
+    const int cell = (c[2] * dims_[1] + c[1]) * dims_[0] + c[0];
+    point_cell_[static_cast<std::size_t>(i)] = cell;
+    ++cell_start_[static_cast<std::size_t>(cell) + 1];
+  }
+  for (int c = 0; c < cells; ++c)
+    cell_start_[static_cast<std::size_t>(c) + 1] += cell_start_[static_cast<std::size_t>(c)];
+  // Counting sort, stable (ascending index within a cell): place with a
+  // running cursor in cell_start_, then shift the cursors back to starts.
+  sorted_index_.resize(static_cast<std::size_t>(n));
+  sorted_points_mm_.resize(3, n);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    const int slot = cell_start_[static_cast<std::size_t>(point_cell_[static_cast<std::size_t>(i)])]++;
+    sorted_index_[static_cast<std::size_t>(slot)] = static_cast<int>(i);
+    sorted_points_mm_.col(slot) = points_mm_.col(i);
+  }
+  for (int c = cells; c > 0; --c)
+    cell_start_[static_cast<std::size_t>(c)] = cell_start_[static_cast<std::size_t>(c) - 1];
+  cell_start_[0] = 0;
 }
 
 void SpatialGrid::scanAll(const Eigen::Vector3d& p_mm, double radius_sq_mm2,
@@ -102,48 +122,62 @@ void SpatialGrid::scanAll(const Eigen::Vector3d& p_mm, double radius_sq_mm2,
 
 void SpatialGrid::findWithinRadius(const Eigen::Vector3d& p_mm, double radius_mm,
                                    std::vector<int>& out) const {
+  if (findWithinRadiusUnordered(p_mm, radius_mm, out))
+    sortAscendingIndices(out, static_cast<int>(points_mm_.cols()));
+}
+
+bool SpatialGrid::findWithinRadiusUnordered(const Eigen::Vector3d& p_mm, double radius_mm,
+                                            std::vector<int>& out) const {
   out.clear();
+  int lo[3], hi[3];
+  const double radius_sq = radius_mm * radius_mm;
+  switch (findCellRange(p_mm, radius_mm, lo, hi)) {
+    case CellRange::kNone:
+      return false;
+    case CellRange::kAll:
+      scanAll(p_mm, radius_sq, out);
+      return false;
+    case CellRange::kCells:
+      break;
+  }
+  for (int z = lo[2]; z <= hi[2]; ++z)
+    for (int y = lo[1]; y <= hi[1]; ++y) {
+      const std::size_t row = static_cast<std::size_t>(z * dims_[1] + y) * dims_[0];
+      const int end = cell_start_[row + static_cast<std::size_t>(hi[0]) + 1];
+      for (int k = cell_start_[row + static_cast<std::size_t>(lo[0])]; k < end; ++k)
+        if ((sorted_points_mm_.col(k) - p_mm).squaredNorm() <= radius_sq)
+          out.push_back(sorted_index_[static_cast<std::size_t>(k)]);
+    }
+  return true;
+}
+
+SpatialGrid::CellRange SpatialGrid::findCellRange(const Eigen::Vector3d& p_mm, double radius_mm,
+                                                  int lo[3], int hi[3]) const {
   if (!p_mm.allFinite()) {
     std::ostringstream s;
-    s << "SpatialGrid::findWithinRadius: query point (" << p_mm.transpose()
-      << ") mm, expected finite coordinates";
+    s << "SpatialGrid: query point (" << p_mm.transpose() << ") mm, expected finite coordinates";
     throw std::invalid_argument(s.str());
   }
-  if (!(radius_mm >= 0.0) || points_mm_.cols() == 0) return;
-  const double radius_sq = radius_mm * radius_mm;
+  if (!(radius_mm >= 0.0) || points_mm_.cols() == 0) return CellRange::kNone;
   const double inv_h = 1.0 / cell_size_mm_;
-  double lo[3], hi[3];
-  double cell_count = 1.0;
-  bool far = false;
+  // Cells overlapping the query cube, clamped to the box; doubles until
+  // clamped, so far queries cannot overflow.
+  bool covers_all = true;
   for (int a = 0; a < 3; ++a) {
     // A relative margin keeps points whose distance test passes only through
     // rounding inside the visited cells.
-    const double reach = radius_mm + 1e-9 * (radius_mm + std::abs(p_mm[a]) + cell_size_mm_);
-    lo[a] = std::floor((p_mm[a] - reach) * inv_h);
-    hi[a] = std::floor((p_mm[a] + reach) * inv_h);
-    far = far || !(std::abs(lo[a]) < kMaxCellCoordinate && std::abs(hi[a]) < kMaxCellCoordinate);
-    cell_count *= hi[a] - lo[a] + 1.0;
+    const double reach =
+        radius_mm + 1e-9 * (radius_mm + std::abs(p_mm[a]) + std::abs(origin_mm_[a]) + cell_size_mm_);
+    const double first = std::floor((p_mm[a] - reach - origin_mm_[a]) * inv_h);
+    const double last = std::floor((p_mm[a] + reach - origin_mm_[a]) * inv_h);
+    if (last < 0.0 || first > dims_[a] - 1.0) return CellRange::kNone;  // misses the box
+    covers_all = covers_all && first <= 0.0 && last >= dims_[a] - 1.0;
+    lo[a] = static_cast<int>(std::max(first, 0.0));
+    hi[a] = static_cast<int>(std::min(last, dims_[a] - 1.0));
   }
-  if (far || cell_count > static_cast<double>(points_mm_.cols())) {
-    scanAll(p_mm, radius_sq, out);
-    return;
-  }
-  Cell c;
-  for (c[2] = static_cast<std::int64_t>(lo[2]); c[2] <= static_cast<std::int64_t>(hi[2]); ++c[2])
-    for (c[1] = static_cast<std::int64_t>(lo[1]); c[1] <= static_cast<std::int64_t>(hi[1]);
-         ++c[1])
-      for (c[0] = static_cast<std::int64_t>(lo[0]); c[0] <= static_cast<std::int64_t>(hi[0]);
-           ++c[0]) {
-        const std::size_t b = findBucket(c);
-        for (int k = bucket_start_[b]; k < bucket_start_[b + 1]; ++k) {
-          const int i = bucket_points_[static_cast<std::size_t>(k)];
-          // Bucket collisions: accept only points of this very cell, so no
-          // point is reported twice.
-          if (cells_[static_cast<std::size_t>(i)] != c) continue;
-          if ((points_mm_.col(i) - p_mm).squaredNorm() <= radius_sq) out.push_back(i);
-        }
-      }
-  std::sort(out.begin(), out.end());
+  const double rows = (hi[1] - lo[1] + 1.0) * (hi[2] - lo[2] + 1.0);
+  if (covers_all || rows * kRowCost > static_cast<double>(points_mm_.cols())) return CellRange::kAll;
+  return CellRange::kCells;
 }
 
 }  // namespace rbfmuscle

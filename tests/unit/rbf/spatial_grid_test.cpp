@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <random>
 #include <stdexcept>
 #include <string>
@@ -57,6 +58,32 @@ TEST(SpatialGrid, QueryEqualsBruteForceForSeveralCellSizes) {
     const SpatialGrid grid(points, cell);
     EXPECT_EQ(grid.getNumPoints(), 1500);
     expectMatchesBruteForce(grid, rng);
+  }
+}
+
+TEST(SpatialGrid, UnorderedQueryAndCandidatesCoverTheBall) {
+  std::mt19937 rng(3);
+  const Eigen::Matrix3Xd points = makePoints(rng, 1200);
+  const SpatialGrid grid(points, 3.0);
+  std::uniform_real_distribution<double> box(-60.0, 60.0);
+  std::vector<int> found;
+  for (double radius : {1.0, 5.0, 20.0}) {
+    for (int t = 0; t < 40; ++t) {
+      const Eigen::Vector3d p(box(rng), box(rng), box(rng));
+      const std::vector<int> expected = bruteForce(points, p, radius);
+      grid.findWithinRadiusUnordered(p, radius, found);
+      std::sort(found.begin(), found.end());
+      ASSERT_EQ(found, expected);
+      // Candidates: each point at most once, the ball included, the points
+      // passed as they are stored.
+      std::vector<int> seen(static_cast<std::size_t>(points.cols()), 0);
+      grid.visitCandidates(p, radius, [&](int i, const auto& point) {
+        ++seen[static_cast<std::size_t>(i)];
+        EXPECT_TRUE(Eigen::Vector3d(point) == points.col(i));
+      });
+      for (int i = 0; i < points.cols(); ++i) ASSERT_LE(seen[static_cast<std::size_t>(i)], 1);
+      for (int i : expected) ASSERT_EQ(seen[static_cast<std::size_t>(i)], 1) << "point " << i;
+    }
   }
 }
 
@@ -122,7 +149,7 @@ TEST(SpatialGrid, RejectsBadInputNamingTheValue) {
     SpatialGrid grid(bad, 1.0);
     FAIL() << "expected std::invalid_argument";
   } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("point 2 coordinate 1"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("point 2 = (  0 nan   0)"), std::string::npos) << e.what();
   }
   const SpatialGrid grid(points, 1.0);
   std::vector<int> found;
