@@ -1,0 +1,82 @@
+#pragma once
+/// @file
+/// Which Gaussian centres move rigidly with which bone, and how the free ones
+/// (and any other carried point) blend the bone motions.
+///
+/// Bones are numbered 0 … B−1 by the caller (the same order as the transforms
+/// given to the prediction and to MuscleDeformer::update). Everything is in the
+/// muscle frame M at rest (mm).
+///
+/// Two ways to attach centres, which may be combined (attachWithLandmarks then
+/// attachByProximity on the result; an attached centre is never re-assigned):
+///  - landmarks: a point p_M and a radius r per bone; centre k attaches to the
+///    bone of the nearest landmark with ‖ξₖ − p‖ ≤ r (ties: lowest landmark index);
+///  - proximity: bone surfaces as MeshDistance in M; centre k attaches to the
+///    bone b minimising dₖ_b = |s_b(ξₖ)| − s·σₖ, σₖ = 1/√αₖ (mm), if dₖ_b ≤ D:
+///    "the Gaussian's support (radius s·σₖ, default s = 1 i.e. φ = e⁻¹) reaches within D of the bone".
+///
+/// Blend weights (prediction of free centres and carried points): for a point p
+/// and a bone b with attached set A_b, the distance to the set is
+/// d_b(p) = min_{k∈A_b} ‖p − ξₖ‖ (mm); the weights are
+/// w_b = exp(−(d_b − d_min)/ℓ) / Σ_c exp(−(d_c − d_min)/ℓ), d_min = min_c d_c,
+/// (a smooth soft-min: ℓ → 0 gives the nearest bone, ℓ → ∞ equal weights). Bones
+/// without attached centres get weight 0. Σ_b w_b = 1 exactly up to rounding.
+#include "geometry/mesh_distance.h"
+#include "rbf/gaussian_field.h"
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace rbfmuscle {
+
+/// A landmark attaching nearby centres to one bone.
+struct AttachmentLandmark {
+  int bone = 0;                                         ///< bone index in [0, B)
+  Eigen::Vector3d p_M_mm = Eigen::Vector3d::Zero();     ///< landmark in the muscle frame M at rest (mm)
+  double radius_mm = 10.0;                              ///< centres within this distance attach (mm, > 0)
+};
+
+/// Attachment of every centre of one field and the rest blend weights of its centres.
+struct Attachments {
+  /// Number of bones B.
+  int num_bones = 0;
+  /// bone_of_centre[k] ∈ [0, B) for a centre attached to that bone, −1 for a free centre (size N).
+  std::vector<int> bone_of_centre;
+  /// Whether centre k is attached to a bone.
+  bool isAttached(int k) const { return bone_of_centre[static_cast<size_t>(k)] >= 0; }
+  /// Number of attached centres.
+  int countAttached() const;
+  /// Number of attached centres of bone b.
+  int countAttachedTo(int bone) const;
+};
+
+/// Empty attachments (every centre free) for N centres and B bones.
+/// @throws std::invalid_argument if N < 0 or B < 0.
+Attachments makeFreeAttachments(int num_centres, int num_bones);
+
+/// Attaches free centres of `field` by landmarks (see file comment); centres already
+/// attached in `attachments` keep their bone.
+/// @throws std::invalid_argument if a landmark names a bone outside [0, B), has a
+///   non-finite point or a radius ≤ 0 (message names the landmark index), or
+///   attachments.bone_of_centre.size() ≠ N.
+void attachByLandmarks(const GaussianField& field, const std::vector<AttachmentLandmark>& landmarks,
+                       Attachments& attachments);
+
+/// Attaches free centres of `field` by proximity to the bone surfaces `bones_M`
+/// (size B, meshes in M at rest): see file comment.
+/// @param distance_mm D ≥ 0 (mm)
+/// @param support_scale s ≥ 0: support radius s/√α (mm)
+/// @throws std::invalid_argument if bones_M.size() ≠ B, a pointer is null, D or s is
+///   negative or not finite, or attachments.bone_of_centre.size() ≠ N.
+void attachByProximity(const GaussianField& field, const std::vector<const MeshDistance*>& bones_M,
+                       double distance_mm, double support_scale, Attachments& attachments);
+
+/// Blend weights (B×M) of the points (3×M, mm, M at rest) from the attached centres
+/// of `rest_centres_mm` (3×N): see file comment. Column j sums to 1.
+/// @param length_mm ℓ > 0 (mm)
+/// @throws std::invalid_argument if no centre is attached, ℓ ≤ 0 or sizes differ.
+Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen::Matrix3Xd& rest_centres_mm,
+                                 const Attachments& attachments, double length_mm);
+
+}  // namespace rbfmuscle

@@ -1,0 +1,121 @@
+#pragma once
+/// @file
+/// The per-frame driver of one muscle: predict from the bones, descend on the
+/// curvature cost, hold the volume.
+#include "dynamics/attachment.h"
+#include "dynamics/curvature_descent.h"
+#include "dynamics/motion_prediction.h"
+#include "dynamics/quadrature.h"
+#include "dynamics/volume_keeper.h"
+#include "geometry/triangle_mesh.h"
+#include "rbf/curvature_cost.h"
+#include "rbf/gaussian_field.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <limits>
+#include <memory>
+#include <vector>
+
+namespace rbfmuscle {
+
+/// All settings of a MuscleDeformer.
+struct DeformerSettings {
+  QuadratureSettings quadrature;  ///< quadrature of the cost and the volume
+  DescentSettings descent;        ///< descent of the free centres
+  VolumeSettings volume;          ///< volume measure and correction
+  double blend_length_mm = 20.0;  ///< ℓ of the blend weights (attachment.h), > 0
+  /// Step (mm) of the central differences giving the Jacobian det ∂P/∂x of the
+  /// prediction at each volume point; ≤ 0 means "h/2".
+  double jacobian_step_mm = 0.0;
+};
+
+/// One frame's result. NaN until update() ran.
+struct DeformResult {
+  static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  double volume_mm3 = kNaN;       ///< V after the correction (mm³)
+  double volume_ratio = kNaN;     ///< V / V_rest
+  double curvature_cost = kNaN;   ///< Σ w (κ − κ₀)² / E_ref after the descent (dimensionless)
+  double descent_cost_initial = kNaN;  ///< E at the prediction
+  double descent_cost_final = kNaN;    ///< E after the descent
+  int iterations = 0;             ///< descent iterations
+  DescentStop stop_reason = DescentStop::kIterationCap;  ///< why the descent stopped
+  VolumeStop volume_stop = VolumeStop::kWithinTolerance;  ///< why the volume step stopped
+  double predict_ms = kNaN;       ///< wall time of the prediction (ms)
+  double descent_ms = kNaN;       ///< wall time of the descent (ms)
+  double volume_ms = kNaN;        ///< wall time of the volume step (ms)
+};
+
+/// Deforms one muscle's Gaussian field with its bones.
+///
+/// Per update, given the bone transforms T_b relative to rest in M:
+///  1. prediction (motion_prediction.h): attached centres ξₖ ← T_b ξₖ⁰; free centres,
+///     quadrature points and volume points ← dual-quaternion blend of the T_b with
+///     their rest blend weights; the quadrature points keep their rest κ₀ (mean
+///     curvature is invariant under rigid motion);
+///  2. descent (curvature_descent.h) of the free centres from the prediction, anchored at it;
+///  3. volume (volume_keeper.h): b solved so the volume equals the rest volume.
+/// Each frame starts from the rest field and depends on the given transforms only
+/// (no history, no drift): identical transforms give bitwise identical fields.
+/// No allocation in steady state apart from the field's own scratch.
+class MuscleDeformer {
+ public:
+  /// @param rest_field the fitted field in M at rest (copied)
+  /// @param attachments bone of every centre (size N) and the number of bones B;
+  ///   at least one centre must be attached
+  /// @throws std::invalid_argument for bad settings or attachments (message names the field).
+  MuscleDeformer(const GaussianField& rest_field, const Attachments& attachments,
+                 const DeformerSettings& settings = {});
+
+  /// Moves the muscle for the bone transforms `bone_motion_M` (size B; T_b maps a
+  /// rest point of bone b to its current position, both in M).
+  /// @throws std::invalid_argument on a wrong count or a non-finite / non-rigid transform.
+  const DeformResult& update(const std::vector<Eigen::Isometry3d>& bone_motion_M);
+
+  /// The current field (M, mm); the rest field before the first update.
+  const GaussianField& getField() const { return field_; }
+  /// The rest field.
+  const GaussianField& getRestField() const { return rest_field_; }
+  /// The last result.
+  const DeformResult& getResult() const { return result_; }
+  /// The attachments.
+  const Attachments& getAttachments() const { return attachments_; }
+  /// The quadrature at rest (points, weights, κ₀, cell size, box).
+  const Quadrature& getQuadrature() const { return quadrature_; }
+  /// The current quadrature points (3×M, mm).
+  const Eigen::Matrix3Xd& getQuadraturePoints() const { return current_points_mm_; }
+  /// V_rest (mm³).
+  double getRestVolume() const { return volume_keeper_->getRestVolume(); }
+  /// The last descent report.
+  const DescentReport& getDescentReport() const { return descent_report_; }
+
+  /// Box (mm, M) holding the current surface: the box of the current quadrature
+  /// points (they cover {f > −β}) padded by one quadrature cell.
+  Eigen::AlignedBox3d calcCurrentBox() const;
+  /// The current surface {f = 0} by extractIsoSurface over calcCurrentBox() with spacing cell_mm.
+  /// @throws std::invalid_argument if cell_mm ≤ 0.
+  TriangleMesh extractSurface(double cell_mm) const;
+
+ private:
+  GaussianField rest_field_;
+  GaussianField field_;
+  Attachments attachments_;
+  DeformerSettings settings_;
+  Quadrature quadrature_;
+  Eigen::MatrixXd centre_weights_;  ///< B×N blend weights of the rest centres
+  Eigen::MatrixXd point_weights_;   ///< B×M blend weights of the rest quadrature points
+  std::unique_ptr<CurvatureCost> cost_;
+  std::unique_ptr<CurvatureDescent> descent_;
+  std::unique_ptr<VolumeKeeper> volume_keeper_;
+  std::vector<DualQuaternion> transforms_;
+  Eigen::Matrix3Xd predicted_centres_mm_;
+  Eigen::Matrix3Xd current_points_mm_;
+  Eigen::Matrix3Xd shifted_points_mm_;  ///< scratch for the Jacobian differences
+  Eigen::Matrix3Xd shifted_rest_mm_;
+  Eigen::VectorXd jacobians_;
+  DeformResult result_;
+  DescentReport descent_report_;
+};
+
+}  // namespace rbfmuscle
