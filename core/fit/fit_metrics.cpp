@@ -53,7 +53,7 @@ FitMetrics measureFit(const GaussianField& field, const MeshDistance& mesh_dista
 
   m.surface_M = extractIsoSurface(
       [&field](const Eigen::Matrix3Xd& p, Eigen::VectorXd& values) { field.calcValues(p, values); },
-      box_mm, settings.surface_cell_mm);
+      box_mm, settings.surface_cell_mm, &m.clipped_nodes);
   m.mesh_volume_mm3 = calcVolume(mesh_distance.getMesh());
   if (m.surface_M.triangles.cols() == 0) {
     m.mean_distance_mm = m.p95_distance_mm = m.max_distance_mm = std::numeric_limits<double>::infinity();
@@ -99,6 +99,7 @@ std::string formatMetricsJson(const FitMetrics& m, int centres, double seconds) 
   field("mse_mm2", m.mse);
   field("components", m.components);
   field("boundary_edges", m.boundary_edges);
+  field("clipped_nodes", static_cast<double>(m.clipped_nodes));
   field("mesh_volume_mm3", m.mesh_volume_mm3);
   field("surface_volume_mm3", m.surface_volume_mm3);
   field("metric_points", m.metric_points);

@@ -2,6 +2,7 @@
 /// @file
 /// How good a fitted surface is: the dissertation's metric (Jaccard index and
 /// MSE) and symmetric surface distances between the input mesh and f = 0.
+#include <cstdint>
 #include <string>
 
 #include "fit/fit_settings.h"
@@ -27,6 +28,7 @@ struct FitMetrics {
   double volume_ratio = 0.0;      ///< fitted / original volume
   int components = 0;             ///< connected components of the extracted surface
   int boundary_edges = 0;         ///< 0 for a closed surface without holes
+  std::int64_t clipped_nodes = 0;   ///< grid nodes on the box faces where f > 0 (surface cut by the box)
   TriangleMesh surface_M;         ///< extracted f = 0 in the muscle frame M
 };
 

@@ -23,7 +23,7 @@ struct FitSettings {
   double ridge = 1e-6;             ///< Tikhonov weight μ on ‖λ‖², relative to the mean column norm²
   int candidates_per_round = 64;   ///< samples of largest residual scored per round
   double batch_fraction = 0.05;    ///< centres added per round, as a fraction of the current count (≥ 1)
-  int score_samples = 15000;       ///< samples used to score candidates (a fixed subset)
+  int score_samples = 4000;        ///< neighbours per shape that score a candidate (wider shapes: every k-th)
   int refit_iterations = 40;       ///< conjugate-gradient cap per refit of λ
   int final_refit_iterations = 400;///< conjugate-gradient cap for the last refit
   double refit_tolerance = 1e-7;   ///< relative residual of the normal equations that stops a refit

@@ -40,7 +40,7 @@ class GreedyFitter {
       if (!(a > 0) || !std::isfinite(a))
         throw std::invalid_argument("fit: shape " + std::to_string(a) + " mm^-2 is not > 0");
     alpha_max_ = *std::max_element(shapes_.begin(), shapes_.end());
-    const double alpha_min = *std::min_element(shapes_.begin(), shapes_.end());
+    alpha_min_ = *std::min_element(shapes_.begin(), shapes_.end());
     offset_ = -settings.clamp_mm;
     y_ = (samples.target.array() - offset_).matrix();
     residual_ = y_;
@@ -48,16 +48,6 @@ class GreedyFitter {
     for (int i = 0; i < samples.getNumSamples(); ++i)
       if (samples.kinds[i] == SampleKind::kSurface) surface_rows_.push_back(i);
 
-    // A fixed, evenly strided subset scores candidates.
-    const int S = samples.getNumSamples();
-    const int stride = std::max(1, S / std::max(1, settings.score_samples));
-    for (int i = 0; i < S; i += stride) score_rows_.push_back(i);
-    Eigen::Matrix3Xd score_points(3, score_rows_.size());
-    for (std::size_t n = 0; n < score_rows_.size(); ++n)
-      score_points.col(n) = samples.points_mm.col(score_rows_[n]);
-    score_scale_ = static_cast<double>(S) / static_cast<double>(score_rows_.size());
-    const double score_radius = std::sqrt(std::log(1.0 / kScoreCutoff) / alpha_min);
-    score_grid_.build(score_points, std::max(2.0, score_radius / 8.0));
     sample_grid_.build(samples.points_mm, 4.0);
   }
 
@@ -97,6 +87,15 @@ class GreedyFitter {
  private:
   int getNumCentres() const { return static_cast<int>(centre_shapes_.size()); }
 
+  /// Whether a centre at `sample` with a weight of sign `weight` obeys the
+  /// sign rule: a centre inside the mesh may only add (λ > 0), one outside
+  /// only carve (λ < 0). Surface vertices are no centres: a narrow Gaussian
+  /// there makes a bubble that leaves the muscle as an island.
+  bool isAllowedSign(int sample, double weight) const {
+    const double s = samples_.signed_distance_mm[sample];
+    return s != 0.0 && (s < 0) == (weight > 0);
+  }
+
   /// Samples of largest |residual|, each at least `separation` from the others.
   std::vector<int> pickCandidates(int count, double separation) const {
     const int S = samples_.getNumSamples();
@@ -111,6 +110,7 @@ class GreedyFitter {
     std::vector<int> picked;
     const double separation2 = separation * separation;
     for (int n = 0; n < pool && static_cast<int>(picked.size()) < count; ++n) {
+      if (!isAllowedSign(order[n], residual_[order[n]])) continue;
       const Eigen::Vector3d p = samples_.points_mm.col(order[n]);
       bool far = true;
       for (int q : picked)
@@ -132,8 +132,9 @@ class GreedyFitter {
 #pragma omp parallel
     {
       std::vector<int> near;
+      std::vector<double> r2;
 #pragma omp for schedule(dynamic, 1)
-      for (int c = 0; c < C; ++c) scoreCandidate(candidates[c], near, &scored[static_cast<std::size_t>(c) * A]);
+      for (int c = 0; c < C; ++c) scoreCandidate(candidates[c], near, r2, &scored[static_cast<std::size_t>(c) * A]);
     }
     double best_score = 0.0;
     for (const CandidateChoice& s : scored) best_score = std::max(best_score, s.score);
@@ -175,24 +176,28 @@ class GreedyFitter {
     return accepted;
   }
 
-  /// Fills out[a] with the single-Gaussian score of centre at `sample` with shape a.
-  void scoreCandidate(int sample, std::vector<int>& near, CandidateChoice* out) const {
+  /// Fills out[a] with the single-Gaussian score of a centre at `sample` with
+  /// shape a. A wide shape reaches many samples: past kScoreSamplesPerShape
+  /// neighbours every k-th one (in index order) stands for k.
+  void scoreCandidate(int sample, std::vector<int>& near, std::vector<double>& r2,
+                      CandidateChoice* out) const {
     const Eigen::Vector3d centre = samples_.points_mm.col(sample);
     const double log_inv = std::log(1.0 / kScoreCutoff);
-    double widest = 1e300;
-    for (double a : shapes_) widest = std::min(widest, a);
-    score_grid_.findWithinRadius(centre, std::sqrt(log_inv / widest), near);
-    const double side = samples_.signed_distance_mm[sample];
-    const Eigen::Matrix3Xd& points = score_grid_.getPoints();
+    sample_grid_.findWithinRadius(centre, std::sqrt(log_inv / alpha_min_), near);
+    r2.resize(near.size());
+    for (std::size_t n = 0; n < near.size(); ++n) r2[n] = (samples_.points_mm.col(near[n]) - centre).squaredNorm();
     for (std::size_t a = 0; a < shapes_.size(); ++a) {
       const double alpha = shapes_[a];
       const double r2_max = log_inv / alpha;
+      long long reach = 0;
+      for (double d2 : r2) reach += d2 <= r2_max;
+      const long long stride = std::max<long long>(1, reach / settings_.score_samples);
       double g = 0.0, h = 0.0;
-      for (int n : near) {
-        const double r2 = (points.col(n) - centre).squaredNorm();
-        if (r2 > r2_max) continue;
-        const double phi = std::exp(-alpha * r2);
-        g += phi * residual_[score_rows_[n]];
+      long long seen = 0;
+      for (std::size_t n = 0; n < near.size(); ++n) {
+        if (r2[n] > r2_max || seen++ % stride != 0) continue;
+        const double phi = std::exp(-alpha * r2[n]);
+        g += phi * residual_[near[n]];
         h += phi * phi;
       }
       CandidateChoice& choice = out[a];
@@ -200,10 +205,9 @@ class GreedyFitter {
       choice.shape = alpha;
       if (h <= 0) continue;
       choice.weight = g / h;
-      // Inside the mesh a centre adds volume, outside it carves: a centre of
-      // the wrong sign only cancels its neighbours and roughens the curvature.
-      const bool wrong_side = (side < 0 && choice.weight < 0) || (side > 0 && choice.weight > 0);
-      choice.score = wrong_side ? 0.0 : score_scale_ * g * g / h;
+      // A centre of the wrong sign for its side only cancels its neighbours,
+      // makes islands and roughens the curvature field.
+      choice.score = isAllowedSign(sample, choice.weight) ? static_cast<double>(stride) * g * g / h : 0.0;
     }
   }
 
@@ -252,14 +256,12 @@ class GreedyFitter {
   const FitSettings& settings_;
   std::vector<double> shapes_;
   double alpha_max_ = 1.0;
+  double alpha_min_ = 1.0;
   double offset_ = 0.0;
   double s_max_ = 1.0;
-  double score_scale_ = 1.0;
   Eigen::VectorXd y_;         ///< t − b at every sample
   Eigen::VectorXd residual_;  ///< t − f at every sample
   std::vector<int> surface_rows_;
-  std::vector<int> score_rows_;
-  SpatialGrid score_grid_;
   SpatialGrid sample_grid_;
   DesignMatrix design_;
   Eigen::Matrix3Xd centres_;

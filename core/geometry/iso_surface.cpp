@@ -54,12 +54,14 @@ class Extractor {
     return mesh;
   }
 
+  std::int64_t getClippedNodes() const { return clipped_nodes_; }
+
  private:
   Eigen::Vector3d nodePosition(std::int64_t i, std::int64_t j, std::int64_t k) const {
     return origin_ + cell_ * Eigen::Vector3d(double(i), double(j), double(k));
   }
 
-  std::vector<double> evaluateLayer(std::int64_t k) const {
+  std::vector<double> evaluateLayer(std::int64_t k) {
     Eigen::Matrix3Xd points(3, n_[0] * n_[1]);
     for (std::int64_t j = 0; j < n_[1]; ++j)
       for (std::int64_t i = 0; i < n_[0]; ++i) points.col(i + n_[0] * j) = nodePosition(i, j, k);
@@ -77,6 +79,16 @@ class Extractor {
         s << "extractIsoSurface: field value " << values[p] << " at ("
           << points.col(p).transpose() << ") mm is not finite";
         throw std::runtime_error(s.str());
+      }
+    // Close the surface at the box: a node on a box face counts as outside.
+    for (std::int64_t j = 0; j < n_[1]; ++j)
+      for (std::int64_t i = 0; i < n_[0]; ++i) {
+        const bool on_face = k == 0 || k == n_[2] - 1 || j == 0 || j == n_[1] - 1 || i == 0 || i == n_[0] - 1;
+        double& value = values[i + n_[0] * j];
+        if (on_face && value > 0.0) {
+          value = 0.0;
+          ++clipped_nodes_;
+        }
       }
     return std::vector<double>(values.data(), values.data() + values.size());
   }
@@ -149,6 +161,7 @@ class Extractor {
   }
 
   const ScalarFieldFn& field_;
+  std::int64_t clipped_nodes_ = 0;
   Eigen::Vector3d origin_;
   double cell_;
   std::int64_t n_[3];
@@ -160,7 +173,7 @@ class Extractor {
 }  // namespace
 
 TriangleMesh extractIsoSurface(const ScalarFieldFn& field, const Eigen::AlignedBox3d& box_mm,
-                               double cell_mm) {
+                               double cell_mm, std::int64_t* clipped_nodes) {
   if (box_mm.isEmpty() || !box_mm.min().allFinite() || !box_mm.max().allFinite()) {
     std::ostringstream s;
     s << "extractIsoSurface: box [" << box_mm.min().transpose() << "] – ["
@@ -172,7 +185,9 @@ TriangleMesh extractIsoSurface(const ScalarFieldFn& field, const Eigen::AlignedB
                                 " mm must be positive and finite");
   Extractor extractor(field, box_mm, cell_mm);
   extractor.checkSize();
-  return extractor.run();
+  TriangleMesh mesh = extractor.run();
+  if (clipped_nodes) *clipped_nodes = extractor.getClippedNodes();
+  return mesh;
 }
 
 }  // namespace rbfmuscle

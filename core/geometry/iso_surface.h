@@ -1,6 +1,7 @@
 #pragma once
 /// @file
 /// Triangle mesh of the zero level set of a scalar field sampled on a regular grid.
+#include <cstdint>
 #include <functional>
 
 #include "geometry/triangle_mesh.h"
@@ -20,7 +21,9 @@ using ScalarFieldFn = std::function<void(const Eigen::Matrix3Xd& points_mm, Eige
 /// diagonal, identical in every cube, so neighbouring cubes agree on their shared face
 /// diagonals. Each cut grid edge gets one vertex, keyed by (low node, direction), so the
 /// mesh is indexed without duplicates, and the output is a closed 2-manifold whenever
-/// f ≤ 0 on the whole grid boundary (a node with f = 0 counts as outside). The vertex on an
+/// f ≤ 0 on the whole grid boundary (a node with f = 0 counts as outside). It is always
+/// closed: nodes on the box faces with f > 0 are taken as f = 0, so a surface that
+/// leaves the box is cut flat there; their number goes to `clipped_nodes`. The vertex on an
 /// edge is the linear root t = f₀/(f₀ − f₁), snapped into [10⁻³, 1 − 10⁻³] rather than onto
 /// a node: no two vertices coincide and no triangle is degenerate, so nothing is dropped and
 /// no hole opens (position error ≤ 10⁻³ edge lengths).
@@ -28,9 +31,10 @@ using ScalarFieldFn = std::function<void(const Eigen::Matrix3Xd& points_mm, Eige
 /// @param field   batch evaluator.
 /// @param box_mm  region to mesh (mm); non-empty.
 /// @param cell_mm grid spacing (mm), > 0; at most 10⁹ nodes.
+/// @param clipped_nodes if given, receives the number of box-face nodes with f > 0.
 /// @throws std::invalid_argument for an empty box, cell_mm ≤ 0 or too many nodes;
 ///         std::runtime_error if the field returns a wrong count or a non-finite value.
 TriangleMesh extractIsoSurface(const ScalarFieldFn& field, const Eigen::AlignedBox3d& box_mm,
-                               double cell_mm);
+                               double cell_mm, std::int64_t* clipped_nodes = nullptr);
 
 }  // namespace rbfmuscle

@@ -3,12 +3,11 @@
 /// outputs and its error messages.
 #include "model/storage_file.h"
 #include "support/eigen_compare.h"
+#include "support/run_host.h"
 
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
-
-#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -22,21 +21,10 @@ namespace {
 namespace fs = std::filesystem;
 
 const fs::path kData = fs::path(RBFMUSCLE_SOURCE_DIR) / "tests/integration/host/data";
-const fs::path kBinary = fs::path(RBFMUSCLE_BINARY_DIR) / "bin/rbfmuscle";
 const fs::path kPluginDir = fs::path(RBFMUSCLE_BINARY_DIR) / "lib";
 
-struct HostResult {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::HostResult;
+using test::readText;
 
 /// A fresh, absent output directory for one test.
 fs::path outputDir(const std::string& name) {
@@ -48,16 +36,7 @@ fs::path outputDir(const std::string& name) {
 
 /// Runs `rbfmuscle ARGS`, capturing stdout and stderr in test_out/host/NAME_log.
 HostResult runHost(const std::string& args, const std::string& name) {
-  const fs::path logs = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out" / "host" / (name + "_log");
-  fs::create_directories(logs);
-  const std::string command = "'" + kBinary.string() + "' " + args + " >'" +
-                              (logs / "stdout").string() + "' 2>'" + (logs / "stderr").string() + "'";
-  const int status = std::system(command.c_str());
-  HostResult result;
-  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  result.out = readText(logs / "stdout");
-  result.err = readText(logs / "stderr");
-  return result;
+  return test::runHost(args, "host", name);
 }
 
 /// Runs a bad model: non-zero exit, one-line "rbfmuscle: error:" message

@@ -1,0 +1,43 @@
+#pragma once
+/// Runs the built `rbfmuscle` executable as a subprocess for integration
+/// tests, capturing its exit code, stdout and stderr.
+#include <sys/wait.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+namespace rbfmuscle::test {
+
+struct HostResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+inline std::string readText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// Runs `rbfmuscle ARGS`; logs go to BINARY_DIR/test_out/GROUP/NAME_log/{stdout,stderr}.
+inline HostResult runHost(const std::string& args, const std::string& group, const std::string& name) {
+  namespace fs = std::filesystem;
+  const fs::path binary = fs::path(RBFMUSCLE_BINARY_DIR) / "bin/rbfmuscle";
+  const fs::path logs = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out" / group / (name + "_log");
+  fs::create_directories(logs);
+  const std::string command = "'" + binary.string() + "' " + args + " >'" + (logs / "stdout").string() +
+                              "' 2>'" + (logs / "stderr").string() + "'";
+  const int status = std::system(command.c_str());
+  HostResult result;
+  result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  result.out = readText(logs / "stdout");
+  result.err = readText(logs / "stderr");
+  return result;
+}
+
+}  // namespace rbfmuscle::test
