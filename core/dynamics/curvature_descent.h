@@ -96,6 +96,7 @@ class CurvatureDescent {
   int num_free_ = 0;
   // Work buffers (3×N) and L-BFGS history.
   mutable Eigen::Matrix3Xd cost_gradient_;
+  mutable double last_curvature_cost_ = 0.0;  ///< curvature part of the last calcObjective
   Eigen::Matrix3Xd x_, g_, x_trial_, g_trial_, direction_;
   std::vector<Eigen::Matrix3Xd> s_hist_, y_hist_;
   std::vector<double> rho_hist_, alpha_hist_;

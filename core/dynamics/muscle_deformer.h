@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <array>
 #include <limits>
 #include <memory>
 #include <vector>
@@ -113,6 +114,7 @@ class MuscleDeformer {
   Eigen::Matrix3Xd current_points_mm_;
   Eigen::Matrix3Xd shifted_points_mm_;  ///< scratch for the Jacobian differences
   Eigen::Matrix3Xd shifted_rest_mm_;
+  std::array<Eigen::Matrix3Xd, 3> jacobian_columns_;  ///< ∂P/∂x_i at every quadrature point
   Eigen::VectorXd jacobians_;
   DeformResult result_;
   DescentReport descent_report_;

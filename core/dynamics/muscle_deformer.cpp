@@ -1,0 +1,126 @@
+#include "dynamics/muscle_deformer.h"
+
+#include "geometry/iso_surface.h"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace rbfmuscle {
+
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachments& attachments,
+                               const DeformerSettings& settings)
+    : rest_field_(rest_field), field_(rest_field), attachments_(attachments), settings_(settings) {
+  const int N = rest_field.getNumCentres();
+  if (static_cast<int>(attachments.bone_of_centre.size()) != N) {
+    throw std::invalid_argument("MuscleDeformer: attachments cover " + std::to_string(attachments.bone_of_centre.size()) +
+                                " centres, the field has " + std::to_string(N));
+  }
+  if (attachments.num_bones < 1 || attachments.countAttached() < 1) {
+    throw std::invalid_argument("MuscleDeformer: need at least one bone and one attached centre (bones " +
+                                std::to_string(attachments.num_bones) + ", attached " +
+                                std::to_string(attachments.countAttached()) + ")");
+  }
+  for (int b : attachments.bone_of_centre) {
+    if (b >= attachments.num_bones) {
+      throw std::invalid_argument("MuscleDeformer: a centre is attached to bone " + std::to_string(b) + " of " +
+                                  std::to_string(attachments.num_bones));
+    }
+  }
+  quadrature_ = makeQuadrature(rest_field, settings.quadrature);
+  const Eigen::Matrix3Xd& rest_centres = rest_field.getCentres();
+  centre_weights_ = calcBlendWeights(rest_centres, rest_centres, attachments, settings.blend_length_mm);
+  point_weights_ = calcBlendWeights(quadrature_.points_mm, rest_centres, attachments, settings.blend_length_mm);
+  cost_ = std::make_unique<CurvatureCost>(quadrature_.points_mm, quadrature_.weights_mm3, quadrature_.target_curvatures);
+  std::vector<bool> free_mask(static_cast<size_t>(N));
+  for (int k = 0; k < N; ++k) free_mask[static_cast<size_t>(k)] = !attachments.isAttached(k);
+  descent_ = std::make_unique<CurvatureDescent>(*cost_, free_mask, settings.descent);
+  const double h = quadrature_.cell_mm;
+  volume_keeper_ = std::make_unique<VolumeKeeper>(quadrature_.points_mm, h * h * h, rest_field, settings.volume);
+  transforms_.assign(static_cast<size_t>(attachments.num_bones), DualQuaternion{});
+  predicted_centres_mm_ = rest_centres;
+  current_points_mm_ = quadrature_.points_mm;
+  jacobians_ = Eigen::VectorXd::Ones(quadrature_.points_mm.cols());
+}
+
+const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>& bone_motion_M) {
+  if (static_cast<int>(bone_motion_M.size()) != attachments_.num_bones) {
+    throw std::invalid_argument("MuscleDeformer::update: " + std::to_string(bone_motion_M.size()) +
+                                " bone transforms, expected " + std::to_string(attachments_.num_bones));
+  }
+  for (size_t b = 0; b < bone_motion_M.size(); ++b) {
+    const Eigen::Matrix3d r = bone_motion_M[b].linear();
+    if (!bone_motion_M[b].matrix().allFinite() ||
+        (r.transpose() * r - Eigen::Matrix3d::Identity()).norm() > 1e-6 || r.determinant() < 0.0) {
+      throw std::invalid_argument("MuscleDeformer::update: transform of bone " + std::to_string(b) +
+                                  " is not a finite rigid motion");
+    }
+    transforms_[b] = toDualQuaternion(bone_motion_M[b]);
+  }
+  auto start = std::chrono::steady_clock::now();
+  predictCentres(rest_field_.getCentres(), attachments_, centre_weights_, transforms_, predicted_centres_mm_);
+  field_.setCentrePositions(predicted_centres_mm_);
+  field_.setOffset(rest_field_.getOffset());
+  predictPoints(quadrature_.points_mm, point_weights_, transforms_, current_points_mm_);
+  cost_->setPoints(current_points_mm_);
+  // det ∂P/∂x by central differences of the prediction.
+  const double step = settings_.jacobian_step_mm > 0.0 ? settings_.jacobian_step_mm : 0.5 * quadrature_.cell_mm;
+  for (int i = 0; i < 3; ++i) {
+    shifted_rest_mm_ = quadrature_.points_mm;
+    shifted_rest_mm_.row(i).array() += step;
+    predictPoints(shifted_rest_mm_, point_weights_, transforms_, jacobian_columns_[static_cast<size_t>(i)]);
+    shifted_rest_mm_.row(i).array() -= 2.0 * step;
+    predictPoints(shifted_rest_mm_, point_weights_, transforms_, shifted_points_mm_);
+    jacobian_columns_[static_cast<size_t>(i)] -= shifted_points_mm_;
+    jacobian_columns_[static_cast<size_t>(i)] /= 2.0 * step;
+  }
+  for (Eigen::Index j = 0; j < jacobians_.size(); ++j) {
+    Eigen::Matrix3d jac;
+    for (int i = 0; i < 3; ++i) jac.col(i) = jacobian_columns_[static_cast<size_t>(i)].col(j);
+    jacobians_(j) = jac.determinant();
+  }
+  result_.predict_ms = msSince(start);
+
+  start = std::chrono::steady_clock::now();
+  descent_report_ = descent_->run(field_, predicted_centres_mm_);
+  result_.descent_ms = msSince(start);
+
+  start = std::chrono::steady_clock::now();
+  const VolumeReport volume = volume_keeper_->correct(field_, current_points_mm_, jacobians_);
+  result_.volume_ms = msSince(start);
+
+  result_.volume_mm3 = volume.volume_mm3;
+  result_.volume_ratio = volume.volume_ratio;
+  result_.volume_stop = volume.stop_reason;
+  result_.curvature_cost = descent_report_.curvature_cost_final;
+  result_.descent_cost_initial = descent_report_.cost_initial;
+  result_.descent_cost_final = descent_report_.cost_final;
+  result_.iterations = descent_report_.iterations;
+  result_.stop_reason = descent_report_.stop_reason;
+  return result_;
+}
+
+Eigen::AlignedBox3d MuscleDeformer::calcCurrentBox() const {
+  Eigen::AlignedBox3d box;
+  for (Eigen::Index j = 0; j < current_points_mm_.cols(); ++j) box.extend(current_points_mm_.col(j));
+  const Eigen::Vector3d pad = Eigen::Vector3d::Constant(quadrature_.cell_mm);
+  return Eigen::AlignedBox3d(box.min() - pad, box.max() + pad);
+}
+
+TriangleMesh MuscleDeformer::extractSurface(double cell_mm) const {
+  if (!(cell_mm > 0.0)) throw std::invalid_argument("MuscleDeformer::extractSurface: cell " + std::to_string(cell_mm) + " mm, expected > 0");
+  const GaussianField& field = field_;
+  return extractIsoSurface([&field](const Eigen::Matrix3Xd& p, Eigen::VectorXd& v) { field.calcValues(p, v); },
+                           calcCurrentBox(), cell_mm);
+}
+
+}  // namespace rbfmuscle
