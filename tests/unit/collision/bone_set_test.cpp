@@ -170,6 +170,23 @@ TEST(BoneSet, FclSphereStageCullsBoneWhoseBoxOverlapsButSurfaceIsFar) {
   for (const auto& res : culled) EXPECT_EQ(res.bone, -1);
 }
 
+TEST(BoneSet, FclSphereStageKeepsABoneLyingWhollyInsideTheProbeSphere) {
+  BoneSet bones;
+  bones.addBone("ball", test::makeIcosphere(30.0, 3));
+  bones.setBoneTransforms({somePose(0.0, {50.0, 0.0, 0.0})});
+  // The probes' bounding sphere (centre 0, radius ≈ 173 mm) contains the whole ball, and
+  // its centre is outside the ball; probe 8 is 5 mm above the ball.
+  Eigen::Matrix3Xd p_W(3, 9);
+  for (int c = 0; c < 8; ++c) p_W.col(c) << (c & 1 ? 100 : -100), (c & 2 ? 100 : -100), (c & 4 ? 100 : -100);
+  p_W.col(8) << 50.0, 0.0, 35.0;
+  std::vector<ContactQueryResult> out;
+  bones.queryProbes(p_W, 10.0, out);
+  EXPECT_EQ(bones.getLastQueryStats().bones_culled_by_fcl, 0);
+  ASSERT_EQ(out[8].bone, 0);
+  EXPECT_NEAR(out[8].signed_distance_mm, 5.0, 0.5);
+  for (int c = 0; c < 8; ++c) EXPECT_EQ(out[std::size_t(c)].bone, -1);
+}
+
 TEST(BoneSet, ProbesDeepInsideABoneAreReportedThoughNoSurfaceIsNear) {
   BoneSet bones;
   bones.addBone("big_cube", test::makeCube(1000.0, -500.0));
