@@ -26,7 +26,7 @@ VolumeKeeper::VolumeKeeper(const Eigen::Matrix3Xd& rest_points_mm, double cell_v
     throw std::invalid_argument("VolumeKeeper: settings need tolerance > 0, max_iterations >= 1, "
                                 "max_offset_change > 0 and a finite heaviside_width");
   }
-  width_ = settings.heaviside_width > 0.0 ? settings.heaviside_width : std::cbrt(cell_volume_mm3);
+  width_ = settings.heaviside_width > 0.0 ? settings.heaviside_width : 0.5 * std::cbrt(cell_volume_mm3);
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(rest_points_mm.cols());
   rest_volume_mm3_ = calcVolume(rest_field, rest_points_mm, ones);
   if (!(rest_volume_mm3_ > 0.0)) {

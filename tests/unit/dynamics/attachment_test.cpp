@@ -1,0 +1,72 @@
+#include "dynamics/attachment.h"
+
+#include "dynamics_test_shapes.h"
+
+#include <gtest/gtest.h>
+
+namespace rbfmuscle {
+namespace {
+
+TEST(Attachment, LandmarksAttachTheEndsOnly) {
+  const GaussianField field = test::makeRodField();
+  const Attachments a = test::makeRodAttachments(field);
+  for (int k = 0; k < field.getNumCentres(); ++k) {
+    const double x = field.getCentres()(0, k);
+    const int expected = x < -22.0 ? 0 : (x > 22.0 ? 1 : -1);
+    EXPECT_EQ(a.bone_of_centre[static_cast<size_t>(k)], expected) << "centre " << k << " at x = " << x;
+  }
+  EXPECT_EQ(a.countAttachedTo(0), a.countAttachedTo(1));
+  EXPECT_GT(a.countAttachedTo(0), 0);
+}
+
+TEST(Attachment, LandmarkWithBadBoneNamesIt) {
+  const GaussianField field = test::makeRodField();
+  Attachments a = makeFreeAttachments(field.getNumCentres(), 2);
+  try {
+    attachByLandmarks(field, {AttachmentLandmark{0, Eigen::Vector3d::Zero(), 5.0},
+                              AttachmentLandmark{2, Eigen::Vector3d::Zero(), 5.0}}, a);
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("landmark 1"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Attachment, ProximityUsesSupportRadius) {
+  // Two "bones": single triangles far in x at each end of the rod, 8 mm beyond the last centres.
+  TriangleMesh left, right;
+  left.vertices_mm.resize(3, 3);
+  left.vertices_mm << -38, -38, -38, -50, 50, 0, -50, -50, 50;
+  left.triangles.resize(3, 1);
+  left.triangles << 0, 1, 2;
+  right = left;
+  right.vertices_mm.row(0).setConstant(38.0);
+  const MeshDistance dl(left), dr(right);
+  const GaussianField field = test::makeRodField();
+  // σ = 1/√0.02 ≈ 7.07 mm: the x = ±30 centres reach within 0.93 mm, the ±25 ones within 5.93 mm.
+  Attachments a = makeFreeAttachments(field.getNumCentres(), 2);
+  attachByProximity(field, {&dl, &dr}, 1.0, 1.0, a);
+  for (int k = 0; k < field.getNumCentres(); ++k) {
+    const double x = field.getCentres()(0, k);
+    const int expected = x < -29.0 ? 0 : (x > 29.0 ? 1 : -1);
+    EXPECT_EQ(a.bone_of_centre[static_cast<size_t>(k)], expected) << "centre " << k;
+  }
+}
+
+TEST(Attachment, BlendWeightsSumToOneAndFavourTheNearBone) {
+  const GaussianField field = test::makeRodField();
+  const Attachments a = test::makeRodAttachments(field);
+  Eigen::Matrix3Xd p(3, 3);
+  p << -25, 0, 25, 0, 0, 0, 0, 0, 0;
+  const Eigen::MatrixXd w = calcBlendWeights(p, field.getCentres(), a, 10.0);
+  ASSERT_EQ(w.rows(), 2);
+  for (int j = 0; j < 3; ++j) EXPECT_NEAR(w.col(j).sum(), 1.0, 1e-15);
+  EXPECT_GT(w(0, 0), 0.99);
+  EXPECT_NEAR(w(0, 1), 0.5, 1e-12);  // the rod's attachments are mirror-symmetric in x
+  EXPECT_GT(w(1, 2), 0.99);
+  // ℓ → large: equal weights.
+  const Eigen::MatrixXd flat = calcBlendWeights(p, field.getCentres(), a, 1e9);
+  EXPECT_NEAR(flat(0, 0), 0.5, 1e-6);
+}
+
+}  // namespace
+}  // namespace rbfmuscle

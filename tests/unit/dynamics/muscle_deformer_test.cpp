@@ -1,0 +1,112 @@
+#include "dynamics/muscle_deformer.h"
+
+#include "dynamics_test_shapes.h"
+#include "geometry/mesh_measures.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace rbfmuscle {
+namespace {
+
+const Eigen::Vector3d kKnee(0.0, 0.0, 0.0);
+
+/// Bone 0 at rest, bone 1 turned about z through the rod's middle.
+std::vector<Eigen::Isometry3d> bend(double angle_rad) {
+  return {Eigen::Isometry3d::Identity(), test::makeRotationAbout(kKnee, Eigen::Vector3d::UnitZ(), angle_rad)};
+}
+
+TEST(MuscleDeformer, RestPoseIsTheRestField) {
+  const GaussianField field = test::makeRodField();
+  MuscleDeformer d(field, test::makeRodAttachments(field));
+  const DeformResult& r = d.update(bend(0.0));
+  EXPECT_EQ(d.getField().getCentres(), field.getCentres());
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_NEAR(r.volume_ratio, 1.0, 1e-12);
+}
+
+TEST(MuscleDeformer, CommonRigidMotionMovesTheSurfaceRigidly) {
+  const GaussianField field = test::makeRodField();
+  MuscleDeformer d(field, test::makeRodAttachments(field));
+  const TriangleMesh rest = d.extractSurface(0.7);
+  Eigen::Isometry3d x = test::makeRotationAbout(Eigen::Vector3d(5, -3, 2), Eigen::Vector3d(1, 1, 0.3), 0.6);
+  x.translation() += Eigen::Vector3d(20, -10, 5);
+  const DeformResult& r = d.update({x, x});
+  TriangleMesh moved = rest;
+  moved.vertices_mm = x * rest.vertices_mm;
+  EXPECT_LE(test::calcMeanSurfaceDistance(moved, d.extractSurface(0.7)), 0.5);
+  EXPECT_NEAR(r.volume_ratio, 1.0, 1e-3);
+}
+
+TEST(MuscleDeformer, BendingKeepsTheVolumeAndTheAttachments) {
+  const GaussianField field = test::makeRodField();
+  const Attachments att = test::makeRodAttachments(field);
+  MuscleDeformer d(field, att);
+  const double rest_volume = calcVolume(d.extractSurface(0.5));
+  const std::vector<Eigen::Isometry3d> motion = bend(40.0 * M_PI / 180.0);
+  const DeformResult& r = d.update(motion);
+  EXPECT_NEAR(r.volume_ratio, 1.0, 1e-3) << toString(r.volume_stop);
+  EXPECT_LE(r.descent_cost_final, r.descent_cost_initial);
+  // The mesh's own volume (independent of the quadrature) within 3 %.
+  const TriangleMesh bent = d.extractSurface(0.5);
+  EXPECT_NEAR(calcVolume(bent) / rest_volume, 1.0, 0.03);
+  EXPECT_EQ(countComponents(bent), 1);
+  for (int k = 0; k < field.getNumCentres(); ++k) {
+    const int b = att.bone_of_centre[static_cast<size_t>(k)];
+    if (b < 0) continue;
+    const Eigen::Vector3d expected = motion[static_cast<size_t>(b)] * Eigen::Vector3d(field.getCentres().col(k));
+    EXPECT_LT((d.getField().getCentres().col(k) - expected).norm(), 1e-9) << "centre " << k;
+  }
+}
+
+TEST(MuscleDeformer, TwoRunsAreBitwiseEqual) {
+  const GaussianField field = test::makeRodField();
+  const Attachments att = test::makeRodAttachments(field);
+  MuscleDeformer a(field, att), b(field, att);
+  for (int frame = 1; frame <= 4; ++frame) {
+    const double angle = 0.15 * frame;
+    const DeformResult ra = a.update(bend(angle));
+    const DeformResult rb = b.update(bend(angle));
+    ASSERT_EQ(a.getField().getCentres(), b.getField().getCentres()) << "frame " << frame;
+    ASSERT_EQ(a.getField().getOffset(), b.getField().getOffset());
+    ASSERT_EQ(ra.curvature_cost, rb.curvature_cost);
+    ASSERT_EQ(ra.volume_mm3, rb.volume_mm3);
+    ASSERT_EQ(ra.iterations, rb.iterations);
+  }
+}
+
+// Regression guard: very narrow (10 mm⁻²) and very wide (1e-4 mm⁻²) Gaussians and
+// 10° steps must give finite numbers and a report, not NaN or a crash.
+TEST(MuscleDeformer, ExtremeShapesAndLargeStepsStayFinite) {
+  GaussianField rod = test::makeRodField();
+  Eigen::Matrix3Xd xi = rod.getCentres();
+  Eigen::VectorXd lambda = rod.getWeights(), alpha = rod.getShapes();
+  alpha(15) = 10.0;
+  lambda(15) = 3.0;
+  alpha(20) = 1e-4;
+  lambda(20) = 0.5;
+  const GaussianField field(-5.0, xi, lambda, alpha);
+  MuscleDeformer d(field, test::makeRodAttachments(field));
+  for (int frame = 1; frame <= 6; ++frame) {
+    const DeformResult& r = d.update(bend(frame * 10.0 * M_PI / 180.0));
+    ASSERT_TRUE(std::isfinite(r.volume_mm3) && std::isfinite(r.curvature_cost)) << "frame " << frame;
+    ASSERT_TRUE(d.getField().getCentres().allFinite());
+    EXPECT_LE(r.descent_cost_final, r.descent_cost_initial);
+    EXPECT_FALSE(toString(r.stop_reason).empty());
+  }
+}
+
+TEST(MuscleDeformer, WrongBoneCountNamesTheExpectedCount) {
+  const GaussianField field = test::makeRodField();
+  MuscleDeformer d(field, test::makeRodAttachments(field));
+  try {
+    d.update({Eigen::Isometry3d::Identity()});
+    FAIL() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("expected 2"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rbfmuscle
