@@ -28,6 +28,7 @@ class InitContext {
   const std::string& getOutputDirectory() const { return output_directory_; }
   /// `path` unchanged when absolute, else resolved against the model directory.
   std::string resolvePath(const std::string& path) const;
+  /// The skeleton at its rest pose (all coordinates 0) while components initialize.
   const Skeleton& getSkeleton() const { return *skeleton_; }
 
  private:

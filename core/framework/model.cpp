@@ -88,6 +88,10 @@ Model Model::build(ModelDocument document, const Registry& registry) {
 }
 
 void Model::initializeComponents(const std::string& output_directory) {
+  // Components take the rest pose (all coordinates 0, where the meshes were
+  // segmented) as their reference: the skeleton is there while they initialize.
+  skeleton_.setCoordinateValues(Eigen::VectorXd::Zero(
+      static_cast<Eigen::Index>(skeleton_.getCoordinateNames().size())));
   const InitContext context(document_.directory, output_directory, skeleton_);
   for (const auto& component : components_) {
     try {

@@ -1,0 +1,40 @@
+#include "fit/surface_cache.h"
+
+#include <cstdio>
+#include <fstream>
+
+#include "fit/fit_pipeline.h"
+#include "geometry/mesh_io.h"
+
+namespace rbfmuscle {
+
+RbfSurface loadOrFitSurface(const std::string& mesh_path, const std::string& rbf_path,
+                            const FitSettings& settings, SurfaceOrigin& origin,
+                            const std::function<void(const std::string&)>& log) {
+  const bool cached = !rbf_path.empty() && std::ifstream(rbf_path).good();
+  if (cached) {
+    RbfSurface surface = readRbfFile(rbf_path);
+    const std::string hash = hashFile(mesh_path);
+    if (surface.source_hash != hash)
+      throw RbfFileError(rbf_path + ": fitted to a mesh with hash " + surface.source_hash + ", but " +
+                         mesh_path + " now has hash " + hash +
+                         "; delete the .rbf file to refit (it is never refitted silently)");
+    origin = SurfaceOrigin::kCache;
+    return surface;
+  }
+  if (log)
+    log("fitting " + mesh_path + " with " + std::to_string(settings.max_centres) + " centres" +
+        (rbf_path.empty() ? " (no cache file set)" : " (no cache yet at " + rbf_path + ")"));
+  const FitProgressFn progress = [&log](const FitProgress& p) {
+    if (log && (p.round % 10 == 0 || p.centres == p.max_centres))
+      log("  fit round " + std::to_string(p.round) + ": " + std::to_string(p.centres) + "/" +
+          std::to_string(p.max_centres) + " centres, rms surface error " + std::to_string(p.rms_surface_mm) + " mm");
+  };
+  MeshFit fit = fitMeshFile(mesh_path, settings, false, progress);
+  if (log) log("  fitted: " + fit.surface.metrics_json);
+  if (!rbf_path.empty()) writeRbfFile(rbf_path, fit.surface);
+  origin = SurfaceOrigin::kFitted;
+  return std::move(fit.surface);
+}
+
+}  // namespace rbfmuscle

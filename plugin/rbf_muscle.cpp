@@ -1,0 +1,141 @@
+#include "rbf_muscle.h"
+
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+
+#include "dynamics/attachment.h"
+#include "dynamics/muscle_deformer.h"
+#include "fit/surface_cache.h"
+#include "geometry/mesh_distance.h"
+#include "geometry/mesh_io.h"
+#include "model/skeleton.h"
+
+namespace rbfmuscle {
+namespace {
+
+/// Parses "x y z; x y z; …" (mm). @throws FrameworkError naming the property.
+std::vector<Eigen::Vector3d> parseLandmarks(const std::string& text, const std::string& property) {
+  std::vector<Eigen::Vector3d> points;
+  std::stringstream groups(text);
+  std::string group;
+  while (std::getline(groups, group, ';')) {
+    if (group.find_first_not_of(" \t\r\n") == std::string::npos) continue;
+    std::istringstream fields(group);
+    Eigen::Vector3d p;
+    std::string extra;
+    if (!(fields >> p.x() >> p.y() >> p.z()) || (fields >> extra) || !p.allFinite())
+      throw FrameworkError(property + ": expected 'x y z; x y z; …' (mm), got '" + group + "'");
+    points.push_back(p);
+  }
+  return points;
+}
+
+/// A bone's collision meshes (visual ones if it has none) at rest, in M.
+TriangleMesh loadBoneMesh_M(const Skeleton& skeleton, int body, const Eigen::Vector3d& offset_mm) {
+  const std::vector<BodyMesh>& meshes = skeleton.getBodyMeshes(body);
+  bool any_collision = false;
+  for (const BodyMesh& m : meshes) any_collision |= m.collision;
+  TriangleMesh all;
+  const Eigen::Isometry3d X_GB = skeleton.getBodyTransform(body);
+  for (const BodyMesh& m : meshes) {
+    if (m.collision != any_collision) continue;
+    TriangleMesh part = loadMesh(m.path);
+    const Eigen::Isometry3d X_GM = X_GB * m.X_BM;
+    Eigen::Matrix3Xd v = X_GM * (m.scale_to_mm.asDiagonal() * part.vertices_mm);
+    v.colwise() -= offset_mm;
+    const Eigen::Index base = all.vertices_mm.cols();
+    all.vertices_mm.conservativeResize(3, base + v.cols());
+    all.vertices_mm.rightCols(v.cols()) = v;
+    all.triangles.conservativeResize(3, all.triangles.cols() + part.triangles.cols());
+    all.triangles.rightCols(part.triangles.cols()) = part.triangles.array() + static_cast<int>(base);
+  }
+  if (all.triangles.cols() == 0)
+    throw FrameworkError("proximity_mm > 0 needs a mesh on body '" + skeleton.getBodyNames()[body] +
+                         "' in " + skeleton.getUrdfPath());
+  return all;
+}
+
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace
+
+RBFMuscle::RBFMuscle() = default;
+RBFMuscle::~RBFMuscle() = default;
+
+void RBFMuscle::initialize(const InitContext& context) {
+  const Skeleton& skeleton = context.getSkeleton();
+  const std::string mesh_path = context.resolvePath(mesh_file.get());
+  const std::string cache_path = surface_file.get().empty() ? "" : context.resolvePath(surface_file.get());
+  FitSettings fit_settings;
+  fit_settings.max_centres = centres.get();
+  SurfaceOrigin origin = SurfaceOrigin::kCache;
+  const RbfSurface surface = loadOrFitSurface(mesh_path, cache_path, fit_settings, origin,
+                                              [this](const std::string& line) {
+                                                std::fprintf(stderr, "%s: %s\n", getName().c_str(), line.c_str());
+                                              });
+  frame_offset_mm_ = surface.frame_offset_mm;
+
+  // Bones 0 (origin) and 1 (insertion), poses at rest (the skeleton is at rest now).
+  const std::vector<int> bodies = {origin_body.getBodyIndex(), insertion_body.getBodyIndex()};
+  X_GB_rest_.clear();
+  for (int body : bodies) X_GB_rest_.push_back(skeleton.getBodyTransform(body));
+  bone_motion_M_.assign(bodies.size(), Eigen::Isometry3d::Identity());
+
+  const GaussianField& field = surface.field;
+  Attachments attachments = makeFreeAttachments(field.getNumCentres(), static_cast<int>(bodies.size()));
+  std::vector<AttachmentLandmark> landmarks;
+  const std::pair<const Property<std::string>*, int> lists[] = {{&origin_landmarks_mm, 0}, {&insertion_landmarks_mm, 1}};
+  for (const auto& [property, bone] : lists)
+    for (const Eigen::Vector3d& p_G : parseLandmarks(property->get(), property->getName()))
+      landmarks.push_back(AttachmentLandmark{bone, p_G - frame_offset_mm_, landmark_radius_mm.get()});
+  attachByLandmarks(field, landmarks, attachments);
+  if (proximity_mm.get() > 0) {
+    std::vector<MeshDistance> bone_distance;
+    for (int body : bodies) bone_distance.emplace_back(loadBoneMesh_M(skeleton, body, frame_offset_mm_));
+    std::vector<const MeshDistance*> bones_M;
+    for (const MeshDistance& d : bone_distance) bones_M.push_back(&d);
+    attachByProximity(field, bones_M, proximity_mm.get(), 1.0, attachments);
+  }
+  for (int bone = 0; bone < 2; ++bone)
+    if (attachments.countAttachedTo(bone) == 0)
+      throw FrameworkError(std::string("no centre attaches to the ") + (bone ? "insertion" : "origin") +
+                           " body: give " + (bone ? "insertion" : "origin") +
+                           "_landmarks_mm near the muscle, a larger landmark_radius_mm, or proximity_mm");
+  result_.attached_centres = attachments.countAttached();
+
+  DeformerSettings settings;
+  settings.quadrature.target_count = quadrature_points.get();
+  settings.descent.max_iterations = max_iterations.get();
+  settings.descent.cost_tolerance = cost_tolerance.get();
+  settings.descent.regularisation = regularisation.get();
+  settings.volume.enabled = keep_volume.get();
+  settings.volume.tolerance = volume_tolerance.get();
+  deformer_ = std::make_unique<MuscleDeformer>(field, attachments, settings);
+}
+
+void RBFMuscle::update(const FrameState& state) {
+  const auto start = std::chrono::steady_clock::now();
+  // Bone motion since rest, X_GB(q)·X_GB(0)⁻¹, expressed in M (ground shifted by the offset).
+  const Eigen::Translation3d to_M(-frame_offset_mm_), from_M(frame_offset_mm_);
+  const int bodies[] = {origin_body.getBodyIndex(), insertion_body.getBodyIndex()};
+  for (std::size_t b = 0; b < bone_motion_M_.size(); ++b)
+    bone_motion_M_[b] = to_M * state.getBodyTransform(bodies[b]) * X_GB_rest_[b].inverse() * from_M;
+  const DeformResult& r = deformer_->update(bone_motion_M_);
+  result_.volume_mm3 = r.volume_mm3;
+  result_.volume_ratio = r.volume_ratio;
+  result_.curvature_cost = r.curvature_cost;
+  result_.iterations = r.iterations;
+  result_.descent_ms = r.descent_ms;
+  result_.update_ms = msSince(start);
+}
+
+void RBFMuscle::appendFrameGeometry(std::vector<FrameGeometry>& geometry) const {
+  TriangleMesh surface = deformer_->extractSurface(surface_cell_mm.get());
+  surface.vertices_mm.colwise() += frame_offset_mm_;
+  geometry.push_back(FrameGeometry{getName(), std::move(surface.vertices_mm), std::move(surface.triangles), {}});
+}
+
+}  // namespace rbfmuscle
