@@ -1,0 +1,124 @@
+/// The RBFMuscle plugin through the host, as a user runs it: a gluteus
+/// maximus scene over hip flexion, its outputs, determinism, and clear errors
+/// for bad muscle input.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "model/storage_file.h"
+#include "support/run_host.h"
+
+namespace rbfmuscle {
+namespace {
+
+namespace fs = std::filesystem;
+using test::HostResult;
+
+const fs::path kHip = fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip";
+
+/// Landmarks of the hip scene (models/hip/hip_flexion.xml).
+const char* const kOrigin = "173.636 292.942 -314.153; 184.221 303.199 -338.869; 219.705 304.358 -400.427";
+const char* const kInsertion = "99.428 282.659 -483.674; 102.304 275.524 -529.532; 101.32 270.787 -570.348";
+
+fs::path testDir(const std::string& name) {
+  const fs::path dir = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// Writes a one-muscle gluteus model into `dir` and returns its path.
+fs::path writeModel(const fs::path& dir, const std::string& surface_file, const std::string& origin = kOrigin,
+                    const std::string& motion = "hip_flexion_0_80_step10.mot") {
+  const fs::path path = dir / "model.xml";
+  std::ofstream(path) << "<?xml version=\"1.0\"?>\n<RBFMuscleModel version=\"1\" name=\"glmax_test\">\n"
+                      << "  <skeleton file=\"" << (kHip / "hip_r.urdf").string() << "\"/>\n"
+                      << "  <plugin file=\"librbfmuscle_plugin.so\"/>\n"
+                      << "  <motion file=\"" << (kHip / "motions" / motion).string() << "\"/>\n"
+                      << "  <components>\n    <RBFMuscle name=\"glmax_r\">\n"
+                      << "      <mesh_file>" << (kHip / "meshes/gluteus_maximus_r.ply").string() << "</mesh_file>\n"
+                      << "      <surface_file>" << surface_file << "</surface_file>\n"
+                      << "      <origin_landmarks_mm>" << origin << "</origin_landmarks_mm>\n"
+                      << "      <insertion_landmarks_mm>" << kInsertion << "</insertion_landmarks_mm>\n"
+                      << "      <landmark_radius_mm>25</landmark_radius_mm>\n"
+                      << "      <socket_origin_body>pelvis</socket_origin_body>\n"
+                      << "      <socket_insertion_body>femur_r</socket_insertion_body>\n"
+                      << "    </RBFMuscle>\n  </components>\n</RBFMuscleModel>\n";
+  return path;
+}
+
+HostResult runModel(const fs::path& model, const fs::path& out, const std::string& name) {
+  return test::runHost("run '" + model.string() + "' -o '" + out.string() + "' --quiet", "plugin", name);
+}
+
+const std::string kCachedGluteus = (kHip / "surfaces/gluteus_maximus_r.rbf").string();
+
+TEST(RBFMusclePlugin, GluteusFollowsFlexionWithVolumeKept) {
+  const fs::path dir = testDir("flexion");
+  const HostResult r = runModel(writeModel(dir, kCachedGluteus), dir / "out", "flexion");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const StorageTable table = readStorage((dir / "out/outputs.sto").string());
+  ASSERT_EQ(table.rows.size(), 9u);  // 0°, 10°, …, 80°
+  for (const char* column : {"glmax_r.volume_mm3", "glmax_r.volume_ratio", "glmax_r.curvature_cost",
+                             "glmax_r.iterations", "glmax_r.update_ms", "glmax_r.attached_centres"})
+    ASSERT_GE(table.findColumn(column), 0) << column;
+  const int ratio = table.findColumn("glmax_r.volume_ratio");
+  for (const std::vector<double>& row : table.rows) {
+    for (double value : row) EXPECT_TRUE(std::isfinite(value));
+    EXPECT_NEAR(row[ratio], 1.0, 0.03);
+  }
+  EXPECT_GT(table.rows.back()[table.findColumn("glmax_r.attached_centres")], 0);
+  EXPECT_TRUE(fs::exists(dir / "out/summary.json"));
+}
+
+TEST(RBFMusclePlugin, TwoRunsGiveIdenticalOutputs) {
+  const fs::path dir = testDir("determinism");
+  const fs::path model = writeModel(dir, kCachedGluteus, kOrigin, "hip_flexion_0_80_step10.mot");
+  ASSERT_EQ(runModel(model, dir / "a", "determinism_a").exit_code, 0);
+  ASSERT_EQ(runModel(model, dir / "b", "determinism_b").exit_code, 0);
+  const StorageTable a = readStorage((dir / "a/outputs.sto").string());
+  const StorageTable b = readStorage((dir / "b/outputs.sto").string());
+  ASSERT_EQ(a.column_labels, b.column_labels);
+  for (std::size_t c = 0; c < a.column_labels.size(); ++c) {
+    const std::string& label = a.column_labels[c];
+    if (label.size() > 3 && label.compare(label.size() - 3, 3, "_ms") == 0) continue;  // wall times
+    for (std::size_t i = 0; i < a.rows.size(); ++i) EXPECT_EQ(a.rows[i][c], b.rows[i][c]) << label << " row " << i;
+  }
+}
+
+TEST(RBFMusclePlugin, InfoListsTheComponent) {
+  const HostResult r = test::runHost("info -L rbfmuscle_plugin RBFMuscle", "plugin", "info");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* text : {"RBFMuscle", "mesh_file", "surface_file", "origin_landmarks_mm", "volume_ratio"})
+    EXPECT_NE(r.out.find(text), std::string::npos) << text << "\n" << r.out;
+}
+
+TEST(RBFMusclePlugin, CacheOfAnotherMeshIsRefusedNotRefitted) {
+  const fs::path dir = testDir("stale_cache");
+  fs::copy_file(kHip / "surfaces/iliacus_r.rbf", dir / "stale.rbf");
+  const HostResult r = runModel(writeModel(dir, (dir / "stale.rbf").string()), dir / "out", "stale_cache");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("stale.rbf: fitted to a mesh with hash"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("never refitted silently"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(RBFMusclePlugin, MalformedLandmarksNameTheProperty) {
+  const fs::path dir = testDir("bad_landmarks");
+  const HostResult r = runModel(writeModel(dir, kCachedGluteus, "1 2; 3 4 5"), dir / "out", "bad_landmarks");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("origin_landmarks_mm: expected 'x y z; x y z; …' (mm), got '1 2'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("model.xml"), std::string::npos) << r.err;
+}
+
+TEST(RBFMusclePlugin, LandmarksAwayFromTheMuscleAreRefused) {
+  const fs::path dir = testDir("far_landmarks");
+  const HostResult r = runModel(writeModel(dir, kCachedGluteus, "0 0 0"), dir / "out", "far_landmarks");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no centre attaches to the origin body"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace rbfmuscle
