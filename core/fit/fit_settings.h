@@ -22,7 +22,7 @@ struct FitSettings {
   double regularisation_gamma = 0.9;  ///< γ of eq. 7.12: 1 = pure error, lower = prefer wide shapes near the surface
   double ridge = 1e-6;             ///< Tikhonov weight μ on ‖λ‖², relative to the mean column norm²
   int candidates_per_round = 64;   ///< samples of largest residual scored per round
-  double batch_fraction = 0.05;    ///< centres added per round, as a fraction of the current count (≥ 1)
+  double batch_fraction = 0.1;     ///< centres added per round, as a fraction of the current count (≥ 1)
   int score_samples = 4000;        ///< neighbours per shape that score a candidate (wider shapes: every k-th)
   int refit_iterations = 40;       ///< conjugate-gradient cap per refit of λ
   int final_refit_iterations = 400;///< conjugate-gradient cap for the last refit

@@ -31,7 +31,7 @@ const char* const kFitUsage =
     "  --halton N              Halton samples in the padded box [30000]\n"
     "  --shapes A,B,...        shape set α in mm^-2 [0.0005 … 0.5]\n"
     "  --gamma G               regularisation γ of eq. 7.12, 1 = none [0.9]\n"
-    "  --batch-fraction F      centres added per round / current count [0.05]\n"
+    "  --batch-fraction F      centres added per round / current count [0.1]\n"
     "  --cell-mm H             grid cell of the extracted surface [1]\n"
     "  --metric-points N       points for the Jaccard index (≥ 100000) [200000]\n"
     "  --global-shape ALPHA    one shape α for every centre\n"
