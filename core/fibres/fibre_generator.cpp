@@ -1,0 +1,222 @@
+#include "fibres/fibre_generator.h"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+namespace rbfmuscle {
+namespace {
+
+void checkSettings(const FibreSettings& s) {
+  const auto fail = [](const std::string& what) { throw std::invalid_argument("FibreSettings: " + what); };
+  if (s.count < 1) fail("count must be ≥ 1, got " + std::to_string(s.count));
+  if (s.segments < 1) fail("segments must be ≥ 1, got " + std::to_string(s.segments));
+  if (!(s.attachment_radius_mm > 0) || !std::isfinite(s.attachment_radius_mm))
+    fail("attachment_radius_mm must be > 0, got " + std::to_string(s.attachment_radius_mm));
+  if (s.grid_nodes < 8) fail("grid_nodes must be ≥ 8, got " + std::to_string(s.grid_nodes));
+  if (!(s.centre_preference >= 0)) fail("centre_preference must be ≥ 0, got " + std::to_string(s.centre_preference));
+  if (!(s.spreading >= 0) || !std::isfinite(s.spreading)) fail("spreading must be ≥ 0, got " + std::to_string(s.spreading));
+  if (s.smoothing_iterations < 0) fail("smoothing_iterations must be ≥ 0, got " + std::to_string(s.smoothing_iterations));
+  checkProjectionSettings(s.projection);
+}
+
+/// Distance from p to the nearest region point (mm).
+double distanceToRegion(const Eigen::Vector3d& p, const Eigen::Matrix3Xd& region) {
+  return std::sqrt((region.colwise() - p).colwise().squaredNorm().minCoeff());
+}
+
+/// N interior nodes spread over the attachment near `region` (file comment, step 2).
+std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& region, int count, double radius,
+                            const char* which, double& used_radius) {
+  if (region.cols() == 0 || !region.allFinite())
+    throw std::invalid_argument(std::string("generateFibres: the ") + which + " region needs ≥ 1 finite point");
+  const Eigen::Index n = grid.nodes_mm.cols();
+  Eigen::VectorXd distance(n);
+  for (Eigen::Index a = 0; a < n; ++a) distance(a) = distanceToRegion(grid.nodes_mm.col(a), region);
+  std::vector<int> candidates;
+  for (int growth = 0; growth <= 8; ++growth, radius *= 1.5) {
+    candidates.clear();
+    for (Eigen::Index a = 0; a < n; ++a)
+      if (distance(a) <= radius) candidates.push_back(static_cast<int>(a));
+    if (static_cast<int>(candidates.size()) >= count) break;
+  }
+  if (static_cast<int>(candidates.size()) < count)
+    throw std::invalid_argument(std::string("generateFibres: only ") + std::to_string(candidates.size()) +
+                                " interior grid nodes near the " + which + " region (radius " +
+                                std::to_string(radius) + " mm) for " + std::to_string(count) + " fibres");
+  used_radius = radius;
+  // Farthest-point sampling from the candidate nearest the first region point.
+  int first = candidates[0];
+  double best = std::numeric_limits<double>::infinity();
+  for (int a : candidates) {
+    const double d = (grid.nodes_mm.col(a) - region.col(0)).squaredNorm();
+    if (d < best) best = d, first = a;
+  }
+  std::vector<int> chosen{first};
+  std::vector<double> nearest(candidates.size(), std::numeric_limits<double>::infinity());
+  while (static_cast<int>(chosen.size()) < count) {
+    size_t far = 0;
+    double far_d = -1;
+    for (size_t c = 0; c < candidates.size(); ++c) {
+      nearest[c] = std::min(nearest[c], (grid.nodes_mm.col(candidates[c]) - grid.nodes_mm.col(chosen.back())).squaredNorm());
+      if (nearest[c] > far_d) far_d = nearest[c], far = c;
+    }
+    chosen.push_back(candidates[far]);
+  }
+  return chosen;
+}
+
+/// Orders `points` (3×N) by strips of u then v (file comment, step 3).
+std::vector<int> orderByStrips(const Eigen::Matrix3Xd& points, const Eigen::Vector3d& e1, const Eigen::Vector3d& e2) {
+  const Eigen::Index n = points.cols();
+  const Eigen::Vector3d mean = points.rowwise().mean();
+  Eigen::VectorXd u = e1.transpose() * (points.colwise() - mean), v = e2.transpose() * (points.colwise() - mean);
+  const auto normalise = [](Eigen::VectorXd& x) {
+    const double sd = std::sqrt(x.squaredNorm() / static_cast<double>(x.size()));
+    if (sd > 0) x /= sd;
+  };
+  normalise(u);
+  normalise(v);
+  std::vector<int> order(static_cast<size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return u(a) < u(b); });
+  const int strip = static_cast<int>(std::ceil(std::sqrt(static_cast<double>(n))));
+  for (Eigen::Index s = 0; s < n; s += strip) {
+    const auto begin = order.begin() + s, end = order.begin() + std::min<Eigen::Index>(n, s + strip);
+    std::stable_sort(begin, end, [&](int a, int b) { return v(a) < v(b); });
+  }
+  return order;
+}
+
+/// The polyline through `nodes` resampled to `segments` equal arc-length segments.
+Eigen::Matrix3Xd resample(const Eigen::Matrix3Xd& polyline, int segments) {
+  const Eigen::Index m = polyline.cols();
+  std::vector<double> arc(static_cast<size_t>(m), 0.0);
+  for (Eigen::Index k = 1; k < m; ++k)
+    arc[static_cast<size_t>(k)] = arc[static_cast<size_t>(k - 1)] + (polyline.col(k) - polyline.col(k - 1)).norm();
+  Eigen::Matrix3Xd out(3, segments + 1);
+  size_t k = 0;
+  for (int j = 0; j <= segments; ++j) {
+    const double s = arc.back() * j / segments;
+    while (k + 2 < static_cast<size_t>(m) && arc[k + 1] < s) ++k;
+    if (m == 1) {
+      out.col(j) = polyline.col(0);
+      continue;
+    }
+    const double span = arc[k + 1] - arc[k];
+    const double t = span > 0 ? std::clamp((s - arc[k]) / span, 0.0, 1.0) : 0.0;
+    out.col(j) = (1 - t) * polyline.col(static_cast<Eigen::Index>(k)) + t * polyline.col(static_cast<Eigen::Index>(k + 1));
+  }
+  out.col(0) = polyline.col(0);
+  out.col(segments) = polyline.col(m - 1);
+  return out;
+}
+
+/// Distance from p to the segment [a, b] (mm).
+double distanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double l2 = ab.squaredNorm();
+  const double t = l2 > 0 ? std::clamp((p - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+  return (a + t * ab - p).norm();
+}
+
+void measureCoverage(const InteriorGrid& grid, RestFibres& fibres) {
+  const double total_length = fibres.lengths_mm.sum();
+  fibres.ideal_radius_mm = std::sqrt(grid.calcVolume() / (M_PI * std::max(total_length, 1e-12)));
+  const Eigen::Index n = grid.nodes_mm.cols();
+  const Eigen::Index stride = std::max<Eigen::Index>(1, n / 4000);
+  const int per = fibres.segments + 1;
+  double sum = 0;
+  int covered = 0, measured = 0;
+  for (Eigen::Index a = 0; a < n; a += stride, ++measured) {
+    double d = std::numeric_limits<double>::infinity();
+    for (int i = 0; i < fibres.count; ++i)
+      for (int j = 0; j < fibres.segments; ++j)
+        d = std::min(d, distanceToSegment(grid.nodes_mm.col(a), fibres.points_mm.col(i * per + j),
+                                          fibres.points_mm.col(i * per + j + 1)));
+    sum += d;
+    covered += d <= 2.0 * fibres.ideal_radius_mm;
+  }
+  fibres.mean_distance_mm = sum / measured;
+  fibres.covered_fraction = static_cast<double>(covered) / measured;
+}
+
+}  // namespace
+
+RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& origin_region_mm,
+                          const Eigen::Matrix3Xd& insertion_region_mm, const FibreSettings& settings) {
+  checkSettings(settings);
+  const InteriorGrid grid = makeInteriorGrid(field, settings.projection.margin_mm, settings.grid_nodes);
+  RestFibres fibres;
+  fibres.count = settings.count;
+  fibres.segments = settings.segments;
+  const std::vector<int> starts = chooseEnds(grid, origin_region_mm, settings.count, settings.attachment_radius_mm,
+                                             "origin", fibres.attachment_radius_origin_mm);
+  const std::vector<int> ends = chooseEnds(grid, insertion_region_mm, settings.count, settings.attachment_radius_mm,
+                                           "insertion", fibres.attachment_radius_insertion_mm);
+  Eigen::Matrix3Xd p0(3, settings.count), p1(3, settings.count);
+  for (int i = 0; i < settings.count; ++i) {
+    p0.col(i) = grid.nodes_mm.col(starts[static_cast<size_t>(i)]);
+    p1.col(i) = grid.nodes_mm.col(ends[static_cast<size_t>(i)]);
+  }
+  // Pairing axes (file comment, step 3).
+  Eigen::Vector3d d = p1.rowwise().mean() - p0.rowwise().mean();
+  d = d.norm() > 0 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::UnitZ();
+  const Eigen::Matrix3d to_plane = Eigen::Matrix3d::Identity() - d * d.transpose();
+  const Eigen::Matrix3Xd q = to_plane * (p0.colwise() - p0.rowwise().mean());
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(q * q.transpose());
+  Eigen::Vector3d e1 = eig.eigenvectors().col(2);
+  if (e1.squaredNorm() < 1e-24 || std::abs(e1.dot(d)) > 0.999) e1 = d.unitOrthogonal();
+  e1 = (to_plane * e1).normalized();
+  const Eigen::Vector3d e2 = d.cross(e1);
+  const std::vector<int> order0 = orderByStrips(p0, e1, e2), order1 = orderByStrips(p1, e1, e2);
+
+  const int per = settings.segments + 1;
+  fibres.points_mm.resize(3, static_cast<Eigen::Index>(settings.count) * per);
+  for (int i = 0; i < settings.count; ++i) {
+    const int a = starts[static_cast<size_t>(order0[static_cast<size_t>(i)])];
+    const int b = ends[static_cast<size_t>(order1[static_cast<size_t>(i)])];
+    const std::vector<int> path = findShortestPath(grid, a, b, settings.centre_preference);
+    Eigen::Matrix3Xd polyline(3, static_cast<Eigen::Index>(path.size()));
+    for (size_t k = 0; k < path.size(); ++k) polyline.col(static_cast<Eigen::Index>(k)) = grid.nodes_mm.col(path[k]);
+    fibres.points_mm.middleCols(static_cast<Eigen::Index>(i) * per, per) = resample(polyline, settings.segments);
+  }
+  // Spreading scale: the radius r₀ each fibre would own, with the chords as lengths.
+  const double chord = (p1.rowwise().mean() - p0.rowwise().mean()).norm();
+  const double spread_mm = std::sqrt(grid.calcVolume() / (M_PI * settings.count * std::max(chord, grid.spacing_mm)));
+  for (int round = 0; round < settings.smoothing_iterations; ++round) {
+    const Eigen::Matrix3Xd before = fibres.points_mm;
+    for (int i = 0; i < settings.count; ++i)
+      for (int j = 1; j < settings.segments; ++j) {
+        const Eigen::Index c = static_cast<Eigen::Index>(i) * per + j;
+        const Eigen::Vector3d tangent = (before.col(c + 1) - before.col(c - 1)).normalized();
+        Eigen::Vector3d push = Eigen::Vector3d::Zero();
+        for (int k = 0; k < settings.count; ++k) {
+          const Eigen::Vector3d d = before.col(c) - before.col(static_cast<Eigen::Index>(k) * per + j);
+          const double r2 = d.squaredNorm();
+          if (k == i || r2 > 9.0 * spread_mm * spread_mm || r2 == 0.0) continue;
+          push += d / std::sqrt(r2) * std::exp(-0.5 * r2 / (spread_mm * spread_mm));
+        }
+        push -= push.dot(tangent) * tangent;
+        push *= settings.spreading * 0.25 * spread_mm;
+        if (push.norm() > spread_mm) push *= spread_mm / push.norm();
+        Eigen::Vector3d p = before.col(c) + 0.5 * (0.5 * (before.col(c - 1) + before.col(c + 1)) - before.col(c)) + push;
+        projectInside(field, settings.projection, p);
+        fibres.points_mm.col(c) = p;
+      }
+  }
+  Eigen::VectorXd values;
+  field.calcValues(fibres.points_mm, values);
+  fibres.min_value = values.minCoeff();
+  fibres.points_below_margin = static_cast<int>((values.array() < settings.projection.margin_mm).count());
+  calcFibreLengths(fibres.points_mm, fibres.segments, fibres.lengths_mm);
+  measureCoverage(grid, fibres);
+  return fibres;
+}
+
+}  // namespace rbfmuscle

@@ -1,0 +1,78 @@
+#pragma once
+/// @file
+/// Fibres of a muscle at rest: N polylines of S segments from the origin
+/// attachment to the insertion attachment through the volume {f > 0}.
+///
+/// Method (deterministic, all in M, mm):
+///  1. the inside {f ≥ margin} is sampled on a regular grid (interior_grid.h);
+///  2. start candidates are the interior nodes within r of an origin region point
+///     (r = attachment_radius_mm, grown ×1.5 until there are ≥ N candidates, cap 8);
+///     N start points are chosen by farthest-point sampling (first: the candidate
+///     nearest the first region point), so they spread evenly over the attachment area;
+///     the same for the end points at the insertion;
+///  3. pairing without crossings: with d the direction from the mean start to the mean
+///     end, e₁ the principal direction of the starts in the plane ⟂ d and e₂ = d × e₁,
+///     both sets get coordinates (u, v) along (e₁, e₂) about their own mean, divided by
+///     their own standard deviations; each set is sorted by u, cut into ⌈√N⌉ strips, each
+///     strip sorted by v, and the i-th start is paired with the i-th end (corresponding
+///     positions across the two attachment areas, as in a parallel-fibred muscle);
+///  4. each fibre starts as the shortest interior grid path between its two ends
+///     (edges cost more near the surface, centre_preference), resampled to S equal
+///     arc-length segments;
+///  5. relaxation, smoothing_iterations rounds over every interior point p_ij (fibre i,
+///     point j), from the previous round's positions: a Laplacian step ½(½(p₋ + p₊) − p),
+///     plus a spreading push away from the same-index points of the other fibres,
+///     σ·r₀/4 · Σ_k u_ik exp(−‖p_ij − p_kj‖²/(2r₀²)) (u the unit vector from p_kj, only
+///     ‖·‖ < 3r₀, component along the fibre removed, push capped at r₀; r₀ = √(V/(π N ℓ)),
+///     V the interior volume, ℓ the distance between the mean start and mean end), so the
+///     fibres fill the cross-section instead of bundling along the shortest routes;
+///     then projectInside (fibre_projection.h). End points stay on their grid nodes.
+/// The dissected fibre directions are not used to route the fibres; they can be
+/// compared with the result (see the tests).
+#include "fibres/fibre_projection.h"
+#include "fibres/interior_grid.h"
+#include "rbf/gaussian_field.h"
+
+#include <Eigen/Core>
+
+namespace rbfmuscle {
+
+/// Settings of generateFibres.
+struct FibreSettings {
+  int count = 100;                   ///< N fibres, ≥ 1
+  int segments = 15;                 ///< S segments per fibre, ≥ 1
+  double attachment_radius_mm = 10;  ///< r: start/end candidates within r of a region point (mm), > 0
+  int grid_nodes = 20000;            ///< interior grid nodes, ≥ 8
+  double centre_preference = 1.0;    ///< c ≥ 0 of findShortestPath
+  int smoothing_iterations = 20;     ///< relaxation rounds (smoothing, spreading, projection), ≥ 0
+  double spreading = 1.0;            ///< σ ≥ 0 of the spreading push (0: none)
+  ProjectionSettings projection;     ///< margin (f ≥ margin) and steps of the projection
+};
+
+/// The fibres at rest and how well they fill the muscle.
+struct RestFibres {
+  int count = 0;             ///< N
+  int segments = 0;          ///< S
+  /// Fibre i, point j (j = 0 origin end … S insertion end) at column i·(S+1)+j (3×N(S+1), mm, M).
+  Eigen::Matrix3Xd points_mm;
+  Eigen::VectorXd lengths_mm;  ///< rest length of each fibre (mm)
+  double min_value = 0;        ///< min f over all fibre points (> 0 means all inside)
+  int points_below_margin = 0; ///< fibre points with f < margin after the relaxation
+  /// Coverage: r₀ = √(V / (π Σ Lᵢ)) is the radius each fibre would own if the fibres
+  /// filled the volume V evenly (mm).
+  double ideal_radius_mm = 0;
+  double mean_distance_mm = 0;   ///< mean distance of interior grid nodes to the nearest fibre (mm)
+  double covered_fraction = 0;   ///< fraction of interior grid nodes within 2 r₀ of a fibre
+  double attachment_radius_origin_mm = 0;     ///< r used at the origin after growth (mm)
+  double attachment_radius_insertion_mm = 0;  ///< r used at the insertion after growth (mm)
+};
+
+/// Generates the fibres (see file comment).
+/// @param origin_region_mm 3×K₀ points marking the origin attachment (M, mm; landmarks or
+///   attached centres), K₀ ≥ 1; `insertion_region_mm` the same for the insertion.
+/// @throws std::invalid_argument on bad settings, empty or non-finite regions, or when no
+///   N interior candidates lie near a region; std::runtime_error if the inside is disconnected.
+RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& origin_region_mm,
+                          const Eigen::Matrix3Xd& insertion_region_mm, const FibreSettings& settings = {});
+
+}  // namespace rbfmuscle

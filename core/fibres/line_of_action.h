@@ -1,0 +1,35 @@
+#pragma once
+/// @file
+/// Via-point line-of-action paths (as OpenSim's GeometryPath without wrapping):
+/// points fixed to bones, length = Σ ‖T_{b(k+1)} p_{k+1} − T_{b(k)} p_k‖.
+#include "geometry/mesh_distance.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <vector>
+
+namespace rbfmuscle {
+
+/// A path of K ≥ 2 points, each fixed to one bone.
+struct ViaPointPath {
+  Eigen::Matrix3Xd points_mm;  ///< 3×K rest positions (mm, M)
+  std::vector<int> bones;      ///< bone of each point, in [0, B)
+};
+
+/// The path through `points_mm` (3×K, K ≥ 2, rest, M): the first point on `first_bone`,
+/// the last on `last_bone`, each intermediate point on the bone whose rest surface
+/// (bones_M[b], M) is nearest to it (ties: lowest index). With `bones_M` empty the
+/// intermediate points go by arc length instead: those before half the path's rest
+/// length on first_bone, the others on last_bone.
+/// @throws std::invalid_argument if K < 2, a point is not finite, a bone index is outside
+///   [0, B) with B = bones_M.size() (when non-empty) or a pointer is null.
+ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone, int last_bone,
+                              const std::vector<const MeshDistance*>& bones_M);
+
+/// Length (mm) of the path with its points moved by their bone's transform
+/// (bone_motion_M[b]: rest → now, M).
+/// @throws std::invalid_argument if a point's bone has no transform.
+double calcPathLength(const ViaPointPath& path, const std::vector<Eigen::Isometry3d>& bone_motion_M);
+
+}  // namespace rbfmuscle

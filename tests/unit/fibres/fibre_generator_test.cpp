@@ -1,0 +1,97 @@
+#include "fibres/fibre_generator.h"
+
+#include "fibre_test_shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace rbfmuscle {
+namespace {
+
+class RodFibres : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    field_ = new GaussianField(test::makeFibreRod());
+    fibres_ = new RestFibres(generateFibres(*field_, test::rodOrigin(), test::rodInsertion(),
+                                            test::makeSmallFibreSettings()));
+  }
+  static void TearDownTestSuite() {
+    delete fibres_;
+    delete field_;
+  }
+  static GaussianField* field_;
+  static RestFibres* fibres_;
+};
+GaussianField* RodFibres::field_ = nullptr;
+RestFibres* RodFibres::fibres_ = nullptr;
+
+TEST_F(RodFibres, EveryPointIsInsideWithTheMargin) {
+  const RestFibres& f = *fibres_;
+  ASSERT_EQ(f.points_mm.cols(), 30 * 11);
+  Eigen::VectorXd values;
+  field_->calcValues(f.points_mm, values);
+  EXPECT_GT(values.minCoeff(), 0.0);
+  EXPECT_EQ(f.points_below_margin, 0) << "min f " << f.min_value;
+  EXPECT_DOUBLE_EQ(f.min_value, values.minCoeff());
+}
+
+TEST_F(RodFibres, RunFromOriginToInsertion) {
+  const RestFibres& f = *fibres_;
+  for (int i = 0; i < f.count; ++i) {
+    const Eigen::Vector3d a = f.points_mm.col(i * 11), b = f.points_mm.col(i * 11 + 10);
+    EXPECT_LE((a - test::rodOrigin().col(0)).norm(), f.attachment_radius_origin_mm + 1e-9) << i;
+    EXPECT_LE((b - test::rodInsertion().col(0)).norm(), f.attachment_radius_insertion_mm + 1e-9) << i;
+    // x increases along each fibre (the rod is straight), lengths at least the chord.
+    for (int j = 0; j < 10; ++j) EXPECT_LT(f.points_mm(0, i * 11 + j), f.points_mm(0, i * 11 + j + 1)) << i << " " << j;
+    EXPECT_GE(f.lengths_mm(i), (b - a).norm() - 1e-9);
+    EXPECT_LE(f.lengths_mm(i), 1.1 * (b - a).norm()) << "fibre " << i << " wanders";
+  }
+}
+
+TEST_F(RodFibres, EndsSpreadAndPairByPosition) {
+  const RestFibres& f = *fibres_;
+  // Spread: no two start points closer than 1 mm (farthest-point sampling on a ~1 mm grid).
+  double closest = 1e9, pair_offset = 0, cross_offset = 0;
+  for (int i = 0; i < f.count; ++i) {
+    for (int k = i + 1; k < f.count; ++k)
+      closest = std::min(closest, (f.points_mm.col(i * 11) - f.points_mm.col(k * 11)).norm());
+    // On a straight rod, paired ends sit at corresponding (y, z) positions.
+    pair_offset += (f.points_mm.col(i * 11).tail<2>() - f.points_mm.col(i * 11 + 10).tail<2>()).norm();
+    cross_offset += (f.points_mm.col(i * 11).tail<2>() - f.points_mm.col(((i + 15) % 30) * 11 + 10).tail<2>()).norm();
+  }
+  EXPECT_GT(closest, 1.0);
+  EXPECT_LT(pair_offset, 0.5 * cross_offset) << "pairing does not follow positions";
+}
+
+TEST_F(RodFibres, FillTheVolume) {
+  const RestFibres& f = *fibres_;
+  EXPECT_GT(f.ideal_radius_mm, 0.0);
+  std::printf("rod coverage: %.3f within 2 r0 = %.2f mm, mean distance %.2f mm\n", f.covered_fraction, 2 * f.ideal_radius_mm, f.mean_distance_mm);
+  EXPECT_GT(f.covered_fraction, 0.8) << "mean distance " << f.mean_distance_mm << " r0 " << f.ideal_radius_mm;
+  EXPECT_LT(f.mean_distance_mm, 2.0 * f.ideal_radius_mm);
+}
+
+TEST_F(RodFibres, GenerationIsDeterministic) {
+  const RestFibres again = generateFibres(*field_, test::rodOrigin(), test::rodInsertion(), test::makeSmallFibreSettings());
+  EXPECT_EQ(again.points_mm, fibres_->points_mm);
+}
+
+TEST(FibreGenerator, RegionAwayFromTheMuscleIsNamed) {
+  const GaussianField field = test::makeFibreRod();
+  FibreSettings s = test::makeSmallFibreSettings();
+  s.attachment_radius_mm = 1;
+  try {
+    generateFibres(field, Eigen::Vector3d(0, 0, 500), test::rodInsertion(), s);
+    FAIL() << "expected an exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("near the origin region"), std::string::npos) << e.what();
+  }
+  s.count = 0;
+  EXPECT_THROW(generateFibres(field, test::rodOrigin(), test::rodInsertion(), s), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rbfmuscle

@@ -1,0 +1,55 @@
+#include "fibres/line_of_action.h"
+
+#include "fibre_test_shapes.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace rbfmuscle {
+namespace {
+
+/// One triangle around `c` (mm) in the plane z = c.z.
+TriangleMesh makeTriangleAt(const Eigen::Vector3d& c) {
+  TriangleMesh m;
+  m.vertices_mm.resize(3, 3);
+  m.vertices_mm << c.x() - 1, c.x() + 1, c.x(), c.y() - 1, c.y() - 1, c.y() + 1, c.z(), c.z(), c.z();
+  m.triangles.resize(3, 1);
+  m.triangles << 0, 1, 2;
+  return m;
+}
+
+TEST(LineOfAction, ViaPointsGoToTheNearestBone) {
+  Eigen::Matrix3Xd p(3, 4);
+  p << -30, -20, 10, 30, 0, 5, 5, 0, 0, 0, 0, 0;
+  const MeshDistance pelvis(makeTriangleAt(Eigen::Vector3d(-25, 10, 0)));
+  const MeshDistance femur(makeTriangleAt(Eigen::Vector3d(25, 10, 0)));
+  const ViaPointPath path = makeViaPointPath(p, 0, 1, {&pelvis, &femur});
+  EXPECT_EQ(path.bones, (std::vector<int>{0, 0, 1, 1}));
+  // Without surfaces: by arc length (half the rest length ≈ 31.6 mm).
+  EXPECT_EQ(makeViaPointPath(p, 0, 1, {}).bones, (std::vector<int>{0, 0, 1, 1}));
+}
+
+TEST(LineOfAction, LengthOfAMovedPathIsAnalytic) {
+  Eigen::Matrix3Xd p(3, 3);
+  p << -30, 0, 30, 0, 5, 0, 0, 0, 0;
+  const ViaPointPath path{p, {0, 0, 1}};
+  EXPECT_NEAR(calcPathLength(path, {Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity()}),
+              2 * std::sqrt(900.0 + 25.0), 1e-12);
+  // Bone 1 turned 90° about z through the origin: (30,0,0) → (0,30,0); via point stays.
+  const Eigen::Isometry3d turn = test::makeTurn(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), M_PI / 2);
+  EXPECT_NEAR(calcPathLength(path, {Eigen::Isometry3d::Identity(), turn}), std::sqrt(925.0) + 25.0, 1e-12);
+  // A common rigid motion leaves the length unchanged.
+  Eigen::Isometry3d x = test::makeTurn(Eigen::Vector3d(1, 2, 3), Eigen::Vector3d(0.3, 1, -0.2), 1.1);
+  x.translation() += Eigen::Vector3d(100, 0, -40);
+  EXPECT_NEAR(calcPathLength(path, {x, x}), 2 * std::sqrt(925.0), 1e-9);
+}
+
+TEST(LineOfAction, BadInputIsRefused) {
+  EXPECT_THROW(makeViaPointPath(Eigen::Matrix3Xd::Zero(3, 1), 0, 1, {}), std::invalid_argument);
+  const ViaPointPath path{Eigen::Matrix3Xd::Zero(3, 2), {0, 3}};
+  EXPECT_THROW(calcPathLength(path, {Eigen::Isometry3d::Identity()}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rbfmuscle
