@@ -49,6 +49,17 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
   transforms_.assign(static_cast<size_t>(attachments.num_bones), DualQuaternion{});
   predicted_centres_mm_ = rest_centres;
   current_points_mm_ = quadrature_.points_mm;
+  // Blend weights at the rest points shifted by ±step along each axis: the weights
+  // vary with the point, so the Jacobian of the prediction needs them.
+  const double step = jacobianStep();
+  for (int i = 0; i < 3; ++i) {
+    for (int side = 0; side < 2; ++side) {
+      Eigen::Matrix3Xd shifted = quadrature_.points_mm;
+      shifted.row(i).array() += side == 0 ? step : -step;
+      shifted_weights_[static_cast<size_t>(2 * i + side)] =
+          calcBlendWeights(shifted, rest_centres, attachments, settings.blend_length_mm);
+    }
+  }
   jacobians_ = Eigen::VectorXd::Ones(quadrature_.points_mm.cols());
 }
 
@@ -72,14 +83,15 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   field_.setOffset(rest_field_.getOffset());
   predictPoints(quadrature_.points_mm, point_weights_, transforms_, current_points_mm_);
   cost_->setPoints(current_points_mm_);
-  // det ∂P/∂x by central differences of the prediction.
-  const double step = settings_.jacobian_step_mm > 0.0 ? settings_.jacobian_step_mm : 0.5 * quadrature_.cell_mm;
+  // det ∂P/∂x by central differences of the prediction (weights of the shifted points).
+  const double step = jacobianStep();
   for (int i = 0; i < 3; ++i) {
     shifted_rest_mm_ = quadrature_.points_mm;
     shifted_rest_mm_.row(i).array() += step;
-    predictPoints(shifted_rest_mm_, point_weights_, transforms_, jacobian_columns_[static_cast<size_t>(i)]);
+    predictPoints(shifted_rest_mm_, shifted_weights_[static_cast<size_t>(2 * i)], transforms_,
+                  jacobian_columns_[static_cast<size_t>(i)]);
     shifted_rest_mm_.row(i).array() -= 2.0 * step;
-    predictPoints(shifted_rest_mm_, point_weights_, transforms_, shifted_points_mm_);
+    predictPoints(shifted_rest_mm_, shifted_weights_[static_cast<size_t>(2 * i + 1)], transforms_, shifted_points_mm_);
     jacobian_columns_[static_cast<size_t>(i)] -= shifted_points_mm_;
     jacobian_columns_[static_cast<size_t>(i)] /= 2.0 * step;
   }
@@ -107,6 +119,10 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   result_.iterations = descent_report_.iterations;
   result_.stop_reason = descent_report_.stop_reason;
   return result_;
+}
+
+double MuscleDeformer::jacobianStep() const {
+  return settings_.jacobian_step_mm > 0.0 ? settings_.jacobian_step_mm : 0.5 * quadrature_.cell_mm;
 }
 
 Eigen::AlignedBox3d MuscleDeformer::calcCurrentBox() const {

@@ -86,6 +86,9 @@ class MuscleDeformer {
   const Quadrature& getQuadrature() const { return quadrature_; }
   /// The current quadrature points (3×M, mm).
   const Eigen::Matrix3Xd& getQuadraturePoints() const { return current_points_mm_; }
+  /// det ∂P/∂x of the prediction P at every rest quadrature point (M), by central
+  /// differences with the blend weights of the shifted points (the weights vary in space).
+  const Eigen::VectorXd& getJacobians() const { return jacobians_; }
   /// V_rest (mm³).
   double getRestVolume() const { return volume_keeper_->getRestVolume(); }
   /// The last descent report.
@@ -99,6 +102,9 @@ class MuscleDeformer {
   TriangleMesh extractSurface(double cell_mm) const;
 
  private:
+  /// Step of the Jacobian differences (mm).
+  double jacobianStep() const;
+
   GaussianField rest_field_;
   GaussianField field_;
   Attachments attachments_;
@@ -114,6 +120,7 @@ class MuscleDeformer {
   Eigen::Matrix3Xd current_points_mm_;
   Eigen::Matrix3Xd shifted_points_mm_;  ///< scratch for the Jacobian differences
   Eigen::Matrix3Xd shifted_rest_mm_;
+  std::array<Eigen::MatrixXd, 6> shifted_weights_;  ///< B×M weights at q ± step·e_i (order +x, −x, +y, …)
   std::array<Eigen::Matrix3Xd, 3> jacobian_columns_;  ///< ∂P/∂x_i at every quadrature point
   Eigen::VectorXd jacobians_;
   DeformResult result_;

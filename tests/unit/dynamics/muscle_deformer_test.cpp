@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 namespace rbfmuscle {
@@ -58,6 +59,40 @@ TEST(MuscleDeformer, BendingKeepsTheVolumeAndTheAttachments) {
     const Eigen::Vector3d expected = motion[static_cast<size_t>(b)] * Eigen::Vector3d(field.getCentres().col(k));
     EXPECT_LT((d.getField().getCentres().col(k) - expected).norm(), 1e-9) << "centre " << k;
   }
+}
+
+// Regression: the Jacobian of the prediction used the rest weights of the unshifted
+// point, so it was the Jacobian of a rigid motion (1 everywhere) and the volume of the
+// carried points ignored the stretch of the blend. Checked against det ∂P/∂x of the
+// blend map P(x) = DQB(w(x)) x by central differences with the deformer's step h/2
+// (the soft-min weights have kinks where the nearest attached centre changes, so a
+// finer step would differ there by more than the truncation error).
+TEST(MuscleDeformer, JacobianIsTheDeterminantOfTheBlendMap) {
+  const GaussianField field = test::makeRodField();
+  const Attachments att = test::makeRodAttachments(field);
+  DeformerSettings settings;
+  MuscleDeformer d(field, att, settings);
+  const std::vector<Eigen::Isometry3d> motion = bend(60.0 * M_PI / 180.0);
+  d.update(motion);
+  std::vector<DualQuaternion> dq;
+  for (const Eigen::Isometry3d& x : motion) dq.push_back(toDualQuaternion(x));
+  const Eigen::Matrix3Xd& rest = d.getQuadrature().points_mm;
+  const double h = 0.5 * d.getQuadrature().cell_mm;
+  double largest_change = 0.0;
+  for (Eigen::Index j = 0; j < rest.cols(); j += 37) {
+    Eigen::Matrix3d jac;
+    for (int i = 0; i < 3; ++i) {
+      Eigen::Matrix3Xd p(3, 2);
+      p.col(0) = rest.col(j) + h * Eigen::Vector3d::Unit(i);
+      p.col(1) = rest.col(j) - h * Eigen::Vector3d::Unit(i);
+      Eigen::Matrix3Xd moved;
+      predictPoints(p, calcBlendWeights(p, field.getCentres(), att, settings.blend_length_mm), dq, moved);
+      jac.col(i) = (moved.col(0) - moved.col(1)) / (2.0 * h);
+    }
+    EXPECT_NEAR(d.getJacobians()(j), jac.determinant(), 1e-9) << "point " << j;
+    largest_change = std::max(largest_change, std::abs(jac.determinant() - 1.0));
+  }
+  EXPECT_GT(largest_change, 0.01);  // the bend does stretch the blend zone
 }
 
 TEST(MuscleDeformer, TwoRunsAreBitwiseEqual) {
