@@ -6,6 +6,9 @@
 
 #include "dynamics/attachment.h"
 #include "dynamics/muscle_deformer.h"
+#include "fibres/fibre_generator.h"
+#include "fibres/fibre_tracker.h"
+#include "fibres/line_of_action.h"
 #include "fit/surface_cache.h"
 #include "geometry/mesh_distance.h"
 #include "geometry/mesh_io.h"
@@ -54,6 +57,23 @@ TriangleMesh loadBoneMesh_M(const Skeleton& skeleton, int body, const Eigen::Vec
     throw FrameworkError("proximity_mm > 0 needs a mesh on body '" + skeleton.getBodyNames()[body] +
                          "' in " + skeleton.getUrdfPath());
   return all;
+}
+
+/// Points as a 3×K matrix.
+Eigen::Matrix3Xd toMatrix(const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Matrix3Xd m(3, static_cast<Eigen::Index>(points.size()));
+  for (size_t k = 0; k < points.size(); ++k) m.col(static_cast<Eigen::Index>(k)) = points[k];
+  return m;
+}
+
+/// Region marking one attachment (M): its landmarks, or the centres attached to `bone`.
+Eigen::Matrix3Xd findAttachmentRegion(const std::vector<Eigen::Vector3d>& landmarks_M, const GaussianField& field,
+                                      const Attachments& attachments, int bone) {
+  if (!landmarks_M.empty()) return toMatrix(landmarks_M);
+  std::vector<Eigen::Vector3d> centres;
+  for (int k = 0; k < field.getNumCentres(); ++k)
+    if (attachments.bone_of_centre[static_cast<size_t>(k)] == bone) centres.push_back(field.getCentres().col(k));
+  return toMatrix(centres);
 }
 
 double msSince(std::chrono::steady_clock::time_point start) {
@@ -114,6 +134,54 @@ void RBFMuscle::initialize(const InitContext& context) {
   settings.volume.enabled = keep_volume.get();
   settings.volume.tolerance = volume_tolerance.get();
   deformer_ = std::make_unique<MuscleDeformer>(field, attachments, settings);
+  initializeFibres(skeleton, field, attachments, settings.blend_length_mm);
+}
+
+void RBFMuscle::initializeFibres(const Skeleton& skeleton, const GaussianField& field, const Attachments& attachments,
+                                 double blend_length_mm) {
+  fibre_tracker_.reset();
+  result_.fiber_lengths_mm.resize(0);
+  std::vector<Eigen::Vector3d> landmarks_M[2];
+  const Property<std::string>* lists[] = {&origin_landmarks_mm, &insertion_landmarks_mm};
+  for (int bone = 0; bone < 2; ++bone)
+    for (const Eigen::Vector3d& p_G : parseLandmarks(lists[bone]->get(), lists[bone]->getName()))
+      landmarks_M[bone].push_back(p_G - frame_offset_mm_);
+  const Eigen::Matrix3Xd regions[2] = {findAttachmentRegion(landmarks_M[0], field, attachments, 0),
+                                       findAttachmentRegion(landmarks_M[1], field, attachments, 1)};
+  if (fibres.get() > 0) {
+    FibreSettings fibre_settings;
+    fibre_settings.count = fibres.get();
+    fibre_settings.segments = fibre_segments.get();
+    try {
+      const RestFibres rest = generateFibres(field, regions[0], regions[1], fibre_settings);
+      fibre_tracker_ = std::make_unique<FibreTracker>(rest, field.getCentres(), attachments, 0, 1, blend_length_mm,
+                                                      fibre_settings.projection);
+    } catch (const std::exception& e) {
+      throw FrameworkError(std::string("fibres: ") + e.what());
+    }
+    result_.fiber_lengths_mm = fibre_tracker_->getRest().lengths_mm;
+  }
+  line_of_action_.reset();
+  const std::vector<Eigen::Vector3d> path_G = parseLandmarks(line_of_action_mm.get(), line_of_action_mm.getName());
+  if (path_G.size() == 1) throw FrameworkError("line_of_action_mm: expected ≥ 2 points, got 1");
+  if (path_G.empty()) {  // straight line between the mean attachment points (class comment)
+    Eigen::Matrix3Xd ends(3, 2);
+    ends << regions[0].rowwise().mean(), regions[1].rowwise().mean();
+    line_of_action_ = std::make_unique<ViaPointPath>(ViaPointPath{ends, {0, 1}});
+    return;
+  }
+  Eigen::Matrix3Xd path_M = toMatrix(path_G);
+  path_M.colwise() -= frame_offset_mm_;
+  std::vector<MeshDistance> bone_distance;
+  try {
+    for (int body : {origin_body.getBodyIndex(), insertion_body.getBodyIndex()})
+      bone_distance.emplace_back(loadBoneMesh_M(skeleton, body, frame_offset_mm_));
+  } catch (const FrameworkError&) {
+    bone_distance.clear();  // a body without mesh: intermediate points by arc length (class comment)
+  }
+  std::vector<const MeshDistance*> bones_M;
+  for (const MeshDistance& d : bone_distance) bones_M.push_back(&d);
+  line_of_action_ = std::make_unique<ViaPointPath>(makeViaPointPath(path_M, 0, 1, bones_M));
 }
 
 void RBFMuscle::update(const FrameState& state) {
@@ -129,6 +197,16 @@ void RBFMuscle::update(const FrameState& state) {
   result_.curvature_cost = r.curvature_cost;
   result_.iterations = r.iterations;
   result_.descent_ms = r.descent_ms;
+  if (fibre_tracker_) {
+    const FibreFrame& f = fibre_tracker_->update(deformer_->getField(), bone_motion_M_);
+    result_.fiber_lengths_mm = f.lengths_mm;
+    result_.fiber_length_mean_mm = f.mean_mm;
+    result_.fiber_length_min_mm = f.min_mm;
+    result_.fiber_length_max_mm = f.max_mm;
+    result_.fiber_length_normalised = f.normalised_mean;
+    result_.fiber_projections = f.projected;
+  }
+  if (line_of_action_) result_.line_of_action_length_mm = calcPathLength(*line_of_action_, bone_motion_M_);
   result_.update_ms = msSince(start);
 }
 
@@ -136,6 +214,15 @@ void RBFMuscle::appendFrameGeometry(std::vector<FrameGeometry>& geometry) const 
   TriangleMesh surface = deformer_->extractSurface(surface_cell_mm.get());
   surface.vertices_mm.colwise() += frame_offset_mm_;
   geometry.push_back(FrameGeometry{getName(), std::move(surface.vertices_mm), std::move(surface.triangles), {}});
+  if (!fibre_tracker_) return;
+  const FibreFrame& frame = fibre_tracker_->getFrame();
+  const RestFibres& rest = fibre_tracker_->getRest();
+  Eigen::Matrix3Xd vertices = frame.points_mm.cols() > 0 ? frame.points_mm : rest.points_mm;
+  vertices.colwise() += frame_offset_mm_;
+  std::vector<std::vector<int>> polylines(static_cast<size_t>(rest.count));
+  for (int i = 0; i < rest.count; ++i)
+    for (int j = 0; j <= rest.segments; ++j) polylines[static_cast<size_t>(i)].push_back(i * (rest.segments + 1) + j);
+  geometry.push_back(FrameGeometry{getName() + "_fibres", std::move(vertices), Eigen::Matrix3Xi(3, 0), std::move(polylines)});
 }
 
 }  // namespace rbfmuscle

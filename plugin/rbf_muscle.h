@@ -24,9 +24,26 @@
 ///   keep_volume (bool, true)              correct the offset b each frame to the rest volume
 ///   volume_tolerance (double, 1e-3)       |V/V_rest − 1| accepted
 ///   surface_cell_mm (double, 2)           grid cell of the surface written with --frames-mesh
+///   fibres (int, 100)                     N fibres from origin to insertion through the volume
+///                                         (core/fibres/fibre_generator.h; 0 = none); their ends
+///                                         are spread over the interior within 10 mm (grown as
+///                                         needed) of the origin / insertion landmarks, or of the
+///                                         attached centres when no landmarks are given
+///   fibre_segments (int, 15)              S segments per fibre
+///   line_of_action_mm (string, "")        "x y z; …" via-point path (≥ 2 points, first on the
+///                                         origin body, last on the insertion body, each
+///                                         intermediate point on the body whose mesh is nearest at
+///                                         rest, by arc length if a body has no mesh); "" = the
+///                                         straight line from the mean origin landmark to the mean
+///                                         insertion landmark (mean attached centres without landmarks)
 ///   socket_origin_body, socket_insertion_body: the bones
 /// Outputs: volume_mm3, volume_ratio, curvature_cost, iterations (descent),
-///   update_ms, descent_ms, attached_centres.
+///   update_ms, descent_ms, attached_centres;
+///   fiber_length_mm (vector, one per fibre, columns fiber_length_mm_i), fiber_length_mean_mm,
+///   fiber_length_min_mm, fiber_length_max_mm, fiber_length_normalised (mean / rest mean),
+///   fiber_projections (fibre points pushed back inside this frame; core/fibres/fibre_tracker.h),
+///   line_of_action_length_mm (the path of line_of_action_mm, or the straight line).
+/// Frame geometry (--frames-mesh): NAME (surface) and NAME_fibres (fibre polylines, ground, mm).
 /// The muscle frame M is the ground frame shifted to the rest mesh's box centre.
 #include <Eigen/Geometry>
 
@@ -38,6 +55,11 @@
 namespace rbfmuscle {
 
 class MuscleDeformer;
+class FibreTracker;
+class GaussianField;
+class Skeleton;
+struct Attachments;
+struct ViaPointPath;
 
 class RBFMuscle final : public Component {
  public:
@@ -66,6 +88,11 @@ class RBFMuscle final : public Component {
                                     PropertyRange{1e-9, 1.0}};
   Property<double> surface_cell_mm{this, "surface_cell_mm", 2.0, "grid cell of per-frame surfaces (mm)",
                                    PropertyRange{0.05, 50.0}};
+  Property<int> fibres{this, "fibres", 100, "number of fibres (0 = none)", PropertyRange{0, 10000}};
+  Property<int> fibre_segments{this, "fibre_segments", 15, "segments per fibre", PropertyRange{1, 1000}};
+  Property<std::string> line_of_action_mm{this, "line_of_action_mm", std::string(),
+                                          "'x y z; …' via-point path, origin body first, insertion body last "
+                                          "(mm, ground at rest)"};
   BodySocket origin_body{this, "origin_body", "bone of the origin attachment"};
   BodySocket insertion_body{this, "insertion_body", "bone of the insertion attachment"};
   Output volume_mm3{this, "volume_mm3", "mm^3", "muscle volume {f > 0}", [this] { return result_.volume_mm3; }};
@@ -77,6 +104,21 @@ class RBFMuscle final : public Component {
   Output descent_ms{this, "descent_ms", "ms", "wall time of the descent", [this] { return result_.descent_ms; }};
   Output attached_centres{this, "attached_centres", "1", "centres moving rigidly with a bone",
                           [this] { return result_.attached_centres; }};
+
+  VectorOutput fiber_length_mm{this, "fiber_length_mm", "mm", "length of each fibre",
+                               [this]() -> const Eigen::VectorXd& { return result_.fiber_lengths_mm; }};
+  Output fiber_length_mean_mm{this, "fiber_length_mean_mm", "mm", "mean fibre length",
+                              [this] { return result_.fiber_length_mean_mm; }};
+  Output fiber_length_min_mm{this, "fiber_length_min_mm", "mm", "shortest fibre",
+                             [this] { return result_.fiber_length_min_mm; }};
+  Output fiber_length_max_mm{this, "fiber_length_max_mm", "mm", "longest fibre",
+                             [this] { return result_.fiber_length_max_mm; }};
+  Output fiber_length_normalised{this, "fiber_length_normalised", "1", "mean fibre length / rest mean",
+                                 [this] { return result_.fiber_length_normalised; }};
+  Output fiber_projections{this, "fiber_projections", "1", "fibre points pushed back inside this frame",
+                           [this] { return result_.fiber_projections; }};
+  Output line_of_action_length_mm{this, "line_of_action_length_mm", "mm", "via-point (or straight) line-of-action length",
+                                  [this] { return result_.line_of_action_length_mm; }};
 
   RBFMuscle();
   ~RBFMuscle() override;
@@ -96,10 +138,23 @@ class RBFMuscle final : public Component {
     double update_ms = kNaN;
     double descent_ms = kNaN;
     double attached_centres = kNaN;
+    Eigen::VectorXd fiber_lengths_mm;  ///< per fibre (mm); size fixed in initialize
+    double fiber_length_mean_mm = kNaN;
+    double fiber_length_min_mm = kNaN;
+    double fiber_length_max_mm = kNaN;
+    double fiber_length_normalised = kNaN;
+    double fiber_projections = kNaN;
+    double line_of_action_length_mm = kNaN;
   };
+
+  /// Rest fibres and their tracker (fibres > 0), and the line-of-action path (if given).
+  void initializeFibres(const Skeleton& skeleton, const GaussianField& field, const Attachments& attachments,
+                        double blend_length_mm);
 
   Result result_;
   std::unique_ptr<MuscleDeformer> deformer_;
+  std::unique_ptr<FibreTracker> fibre_tracker_;   ///< null without fibres
+  std::unique_ptr<ViaPointPath> line_of_action_;  ///< null without line_of_action_mm
   Eigen::Vector3d frame_offset_mm_ = Eigen::Vector3d::Zero();  ///< origin of M in ground
   std::vector<Eigen::Isometry3d> X_GB_rest_;                    ///< origin, insertion bone poses at rest
   std::vector<Eigen::Isometry3d> bone_motion_M_;                ///< per frame, reused
