@@ -20,6 +20,11 @@ double msSince(std::chrono::steady_clock::time_point start) {
 MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachments& attachments,
                                const DeformerSettings& settings)
     : rest_field_(rest_field), field_(rest_field), attachments_(attachments), settings_(settings) {
+  if (!(settings.cutoff >= 0.0 && settings.cutoff < 1.0)) {
+    throw std::invalid_argument("MuscleDeformer: cutoff " + std::to_string(settings.cutoff) + ", expected [0, 1)");
+  }
+  rest_field_.setCutoff(settings.cutoff);
+  field_.setCutoff(settings.cutoff);
   const int N = rest_field.getNumCentres();
   if (static_cast<int>(attachments.bone_of_centre.size()) != N) {
     throw std::invalid_argument("MuscleDeformer: attachments cover " + std::to_string(attachments.bone_of_centre.size()) +
@@ -36,8 +41,8 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
                                   std::to_string(attachments.num_bones));
     }
   }
-  quadrature_ = makeQuadrature(rest_field, settings.quadrature);
-  const Eigen::Matrix3Xd& rest_centres = rest_field.getCentres();
+  quadrature_ = makeQuadrature(rest_field_, settings.quadrature);
+  const Eigen::Matrix3Xd& rest_centres = rest_field_.getCentres();
   centre_weights_ = calcBlendWeights(rest_centres, rest_centres, attachments, settings.blend_length_mm);
   point_weights_ = calcBlendWeights(quadrature_.points_mm, rest_centres, attachments, settings.blend_length_mm);
   cost_ = std::make_unique<CurvatureCost>(quadrature_.points_mm, quadrature_.weights_mm3, quadrature_.target_curvatures);
@@ -45,7 +50,7 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
   for (int k = 0; k < N; ++k) free_mask[static_cast<size_t>(k)] = !attachments.isAttached(k);
   descent_ = std::make_unique<CurvatureDescent>(*cost_, free_mask, settings.descent);
   const double h = quadrature_.cell_mm;
-  volume_keeper_ = std::make_unique<VolumeKeeper>(quadrature_.points_mm, h * h * h, rest_field, settings.volume);
+  volume_keeper_ = std::make_unique<VolumeKeeper>(quadrature_.points_mm, h * h * h, rest_field_, settings.volume);
   transforms_.assign(static_cast<size_t>(attachments.num_bones), DualQuaternion{});
   predicted_centres_mm_ = rest_centres;
   current_points_mm_ = quadrature_.points_mm;
@@ -79,8 +84,19 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   }
   auto start = std::chrono::steady_clock::now();
   predictCentres(rest_field_.getCentres(), attachments_, centre_weights_, transforms_, predicted_centres_mm_);
-  field_.setCentrePositions(predicted_centres_mm_);
-  field_.setOffset(rest_field_.getOffset());
+  if (settings_.warm_start && has_previous_) {
+    // Previous corrected centres carried by the change of the prediction; attached
+    // centres get their exact prediction (their correction is zero).
+    start_centres_mm_ = field_.getCentres() + (predicted_centres_mm_ - previous_predicted_mm_);
+    for (int k = 0; k < static_cast<int>(attachments_.bone_of_centre.size()); ++k)
+      if (attachments_.isAttached(k)) start_centres_mm_.col(k) = predicted_centres_mm_.col(k);
+    field_.setCentrePositions(start_centres_mm_);
+  } else {
+    field_.setCentrePositions(predicted_centres_mm_);
+    field_.setOffset(rest_field_.getOffset());
+  }
+  previous_predicted_mm_ = predicted_centres_mm_;
+  has_previous_ = true;
   predictPoints(quadrature_.points_mm, point_weights_, transforms_, current_points_mm_);
   cost_->setPoints(current_points_mm_);
   // det ∂P/∂x by central differences of the prediction (weights of the shifted points).
