@@ -158,14 +158,15 @@ class GreedyFitter {
                      [](const CandidateChoice& a, const CandidateChoice& b) { return a.regularised < b.regularised; });
 
     // Two new centres of one batch must not cover the same error: keep them
-    // at least the wider one's σ = α^−½ apart.
+    // at least the narrower one's σ = α^−½ apart (the wider one's σ would let
+    // a single wide centre block a whole batch).
     std::vector<CandidateChoice> accepted;
     for (const CandidateChoice& choice : best_per_candidate) {
       if (static_cast<int>(accepted.size()) >= batch) break;
       const Eigen::Vector3d p = samples_.points_mm.col(choice.sample);
       bool apart = true;
       for (const CandidateChoice& other : accepted) {
-        const double sigma = 1.0 / std::sqrt(std::min(choice.shape, other.shape));
+        const double sigma = 1.0 / std::sqrt(std::max(choice.shape, other.shape));
         if ((samples_.points_mm.col(other.sample) - p).norm() < sigma) {
           apart = false;
           break;
