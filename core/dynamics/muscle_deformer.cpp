@@ -51,6 +51,9 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
   descent_ = std::make_unique<CurvatureDescent>(*cost_, free_mask, settings.descent);
   const double h = quadrature_.cell_mm;
   volume_keeper_ = std::make_unique<VolumeKeeper>(quadrature_.points_mm, h * h * h, rest_field_, settings.volume);
+  if (settings.refit.enabled) {
+    refit_ = std::make_unique<WeightRefit>(rest_field_, attachments, settings.refit, settings.blend_length_mm);
+  }
   transforms_.assign(static_cast<size_t>(attachments.num_bones), DualQuaternion{});
   predicted_centres_mm_ = rest_centres;
   current_points_mm_ = quadrature_.points_mm;
@@ -118,6 +121,17 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   }
   result_.predict_ms = msSince(start);
 
+  result_.refit_ms = 0.0;
+  if (refit_) {
+    start = std::chrono::steady_clock::now();
+    field_.setOffset(rest_field_.getOffset());
+    refit_report_ = refit_->run(field_, transforms_);
+    result_.refit_ms = msSince(start);
+    result_.refit_iterations = refit_report_.solve.iterations;
+    result_.refit_reached_tolerance = refit_report_.solve.reached_tolerance;
+    result_.refit_residual = refit_report_.rms_residual_after;
+  }
+
   start = std::chrono::steady_clock::now();
   descent_report_ = descent_->run(field_, predicted_centres_mm_);
   result_.descent_ms = msSince(start);
@@ -135,6 +149,14 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   result_.iterations = descent_report_.iterations;
   result_.stop_reason = descent_report_.stop_reason;
   return result_;
+}
+
+void MuscleDeformer::setCurrentCentres(const Eigen::Matrix3Xd& centres_mm) {
+  if (centres_mm.cols() != field_.getNumCentres()) {
+    throw std::invalid_argument("MuscleDeformer::setCurrentCentres: " + std::to_string(centres_mm.cols()) +
+                                " centres, expected " + std::to_string(field_.getNumCentres()));
+  }
+  field_.setCentrePositions(centres_mm);
 }
 
 double MuscleDeformer::jacobianStep() const {

@@ -7,6 +7,7 @@
 #include "dynamics/motion_prediction.h"
 #include "dynamics/quadrature.h"
 #include "dynamics/volume_keeper.h"
+#include "dynamics/weight_refit.h"
 #include "geometry/triangle_mesh.h"
 #include "rbf/curvature_cost.h"
 #include "rbf/gaussian_field.h"
@@ -26,6 +27,7 @@ struct DeformerSettings {
   QuadratureSettings quadrature;  ///< quadrature of the cost and the volume
   DescentSettings descent;        ///< descent of the free centres
   VolumeSettings volume;          ///< volume measure and correction
+  RefitSettings refit;            ///< refit of λ to the carried rest field (weight_refit.h)
   double blend_length_mm = 20.0;  ///< ℓ of the blend weights (attachment.h), > 0
   /// Step (mm) of the central differences giving the Jacobian det ∂P/∂x of the
   /// prediction at each volume point; ≤ 0 means "h/2".
@@ -51,7 +53,11 @@ struct DeformResult {
   int iterations = 0;             ///< descent iterations
   DescentStop stop_reason = DescentStop::kIterationCap;  ///< why the descent stopped
   VolumeStop volume_stop = VolumeStop::kWithinTolerance;  ///< why the volume step stopped
+  int refit_iterations = 0;       ///< CG iterations of the weight refit (0 when disabled)
+  bool refit_reached_tolerance = true;  ///< false: the refit stopped at its iteration cap
+  double refit_residual = kNaN;   ///< rms of f(z_j) − f₀(y_j) after the refit (field unit; NaN when disabled)
   double predict_ms = kNaN;       ///< wall time of the prediction (ms)
+  double refit_ms = 0.0;          ///< wall time of the weight refit (ms)
   double descent_ms = kNaN;       ///< wall time of the descent (ms)
   double volume_ms = kNaN;        ///< wall time of the volume step (ms)
 };
@@ -63,13 +69,21 @@ struct DeformResult {
 ///     quadrature points and volume points ← dual-quaternion blend of the T_b with
 ///     their rest blend weights; the quadrature points keep their rest κ₀ (mean
 ///     curvature is invariant under rigid motion);
-///  2. descent (curvature_descent.h) of the free centres from the prediction, anchored at it;
-///  3. volume (volume_keeper.h): b solved so the volume equals the rest volume.
+///  2. refit (weight_refit.h, design choice for large flexion): b ← b_rest and, with the
+///     centres fixed, λ refitted so f(P(y_j)) ≈ f₀(y_j) at rest samples y_j carried by the
+///     same prediction, i.e. the muscle's implicit function moves with the bones
+///     (f = f₀ ∘ P⁻¹) and the weights take up the stretch of the blend, so centres pulled
+///     apart do not leave gaps and the surface stays one piece;
+///  3. descent (curvature_descent.h) of the free centres from there, anchored at the
+///     prediction (it smooths the residual of the refit);
+///  4. volume (volume_keeper.h): b solved so the volume equals the rest volume (a small
+///     change now: the carried field already has the volume Σ h³ J H(f₀)).
 /// With warm_start (default) a frame starts from the previous frame's result carried
 /// by the change of prediction, so the result depends on the sequence of transforms
 /// (identical sequences give bitwise identical fields); without it each frame starts
 /// from the prediction and depends on the given transforms only.
-/// No allocation in steady state apart from the field's own scratch.
+/// The refit builds its design matrix each frame (allocates); the other steps do not
+/// allocate in steady state apart from the field's own scratch.
 class MuscleDeformer {
  public:
   /// @param rest_field the fitted field in M at rest (copied)
@@ -83,6 +97,12 @@ class MuscleDeformer {
   /// rest point of bone b to its current position, both in M).
   /// @throws std::invalid_argument on a wrong count or a non-finite / non-rigid transform.
   const DeformResult& update(const std::vector<Eigen::Isometry3d>& bone_motion_M);
+
+  /// Replaces the current centres (3×N, mm), e.g. to test that the pipeline restores a
+  /// disturbed field. With warm_start the next update starts from them (moved by the
+  /// change of prediction); attached centres always get their bone's exact motion.
+  /// @throws std::invalid_argument on a size mismatch or a non-finite centre.
+  void setCurrentCentres(const Eigen::Matrix3Xd& centres_mm);
 
   /// The current field (M, mm); the rest field before the first update.
   const GaussianField& getField() const { return field_; }
@@ -101,6 +121,8 @@ class MuscleDeformer {
   const Eigen::VectorXd& getJacobians() const { return jacobians_; }
   /// V_rest (mm³).
   double getRestVolume() const { return volume_keeper_->getRestVolume(); }
+  /// The last refit report (default-constructed when the refit is disabled or before an update).
+  const WeightRefitReport& getRefitReport() const { return refit_report_; }
   /// The last descent report.
   const DescentReport& getDescentReport() const { return descent_report_; }
 
@@ -125,6 +147,7 @@ class MuscleDeformer {
   std::unique_ptr<CurvatureCost> cost_;
   std::unique_ptr<CurvatureDescent> descent_;
   std::unique_ptr<VolumeKeeper> volume_keeper_;
+  std::unique_ptr<WeightRefit> refit_;  ///< null when settings.refit.enabled is false
   std::vector<DualQuaternion> transforms_;
   Eigen::Matrix3Xd predicted_centres_mm_;
   Eigen::Matrix3Xd previous_predicted_mm_;  ///< prediction of the previous frame (warm start)
@@ -138,6 +161,7 @@ class MuscleDeformer {
   Eigen::VectorXd jacobians_;
   DeformResult result_;
   DescentReport descent_report_;
+  WeightRefitReport refit_report_;
 };
 
 }  // namespace rbfmuscle

@@ -7,6 +7,7 @@
 #include "../../unit/dynamics/dynamics_test_shapes.h"
 #include "fit/fit_pipeline.h"
 #include "geometry/iso_surface.h"
+#include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
 
@@ -80,59 +81,58 @@ TEST(GluteusDynamics, LandmarksAttachBothEnds) {
 }
 
 // Issue 4 / dissertation 8.3.1: every free centre moved randomly by 5 % of the box
-// diagonal, attachments held; after the descent the mean surface distance to the
-// unperturbed surface is ≤ 0.5 % of the diagonal.
-TEST(GluteusDynamics, DISABLED_RestoresRandomPerturbation_FailsAt1_44PercentOfDiagonal_Issue4Open) {
-  GaussianField field = gluteus().field;
-  const Attachments att = gluteusAttachments(gluteus());
-  const Quadrature q = makeQuadrature(field, QuadratureSettings{});
-  const CurvatureCost cost(q.points_mm, q.weights_mm3, q.target_curvatures);
-  auto surface = [&] {
-    return extractIsoSurface([&](const Eigen::Matrix3Xd& p, Eigen::VectorXd& v) { field.calcValues(p, v); }, q.box_mm,
-                             1.5);
-  };
-  const TriangleMesh rest = surface();
-  const double diagonal = rest.calcBoundingBox().diagonal().norm();
-  std::vector<bool> mask(att.bone_of_centre.size());
-  for (size_t k = 0; k < mask.size(); ++k) mask[k] = att.bone_of_centre[k] < 0;
-  DescentSettings settings;
-  settings.regularisation = 0.0;
-  settings.max_iterations = 500;
-  settings.cost_tolerance = 1e-10;
-  settings.gradient_tolerance = 1e-8;
-  CurvatureDescent descent(cost, mask, settings);
-  const Eigen::Matrix3Xd anchors = field.getCentres();
-  field.setCentrePositions(test::perturbFreeCentres(anchors, att, 0.05 * diagonal, 5));
-  const double perturbed = test::calcMeanSurfaceDistance(rest, surface());
-  const DescentReport r = descent.run(field, anchors);
-  const double distance = test::calcMeanSurfaceDistance(rest, surface());
-  RecordProperty("diagonal_mm", std::to_string(diagonal));
-  RecordProperty("perturbed_distance_mm", std::to_string(perturbed));
-  RecordProperty("restored_distance_mm", std::to_string(distance));
-  RecordProperty("iterations", r.iterations);
-  std::cout << "diagonal " << diagonal << " mm, perturbed " << perturbed << " mm, restored " << distance
-            << " mm after " << r.iterations << " iterations (" << toString(r.stop_reason) << ")\n";
-  EXPECT_LE(distance, 0.005 * diagonal);
-}
-
-// Flexion of the femur (bone 1) about the hip centre in 10° steps to 80°, pelvis fixed.
-TEST(GluteusDynamics, DISABLED_FlexionStaysOneComponent_SplitsInto7At80Deg_Issue4Open) {
+// diagonal, attachments held; the deformer's full per-frame pipeline at identity
+// motion (refit of λ to the rest field, descent, volume) brings the mean surface
+// distance to the unperturbed surface to ≤ 0.5 % of the diagonal.
+TEST(GluteusDynamics, DISABLED_RestoresRandomPerturbation_FailsAt1_11PercentOfDiagonal_Issue4Open) {
   const RbfSurface& s = gluteus();
   const Attachments att = gluteusAttachments(s);
   MuscleDeformer d(s.field, att);
-  const int rest_components = countComponents(d.extractSurface(2.0));
+  const std::vector<Eigen::Isometry3d> identity(2, Eigen::Isometry3d::Identity());
+  d.update(identity);
+  const TriangleMesh rest = d.extractSurface(1.5);
+  const double diagonal = rest.calcBoundingBox().diagonal().norm();
+  d.setCurrentCentres(test::perturbFreeCentres(s.field.getCentres(), att, 0.05 * diagonal, 5));
+  const double perturbed = test::calcMeanSurfaceDistance(rest, d.extractSurface(1.5));
+  const DeformResult& r = d.update(identity);
+  const double distance = test::calcMeanSurfaceDistance(rest, d.extractSurface(1.5));
+  RecordProperty("diagonal_mm", std::to_string(diagonal));
+  RecordProperty("perturbed_distance_mm", std::to_string(perturbed));
+  RecordProperty("restored_distance_mm", std::to_string(distance));
+  std::cout << "diagonal " << diagonal << " mm, perturbed " << perturbed << " mm, restored " << distance
+            << " mm (refit residual " << r.refit_residual << " after " << r.refit_iterations << " CG iterations, "
+            << r.iterations << " descent iterations, " << toString(r.stop_reason) << ", volume ratio "
+            << r.volume_ratio << ")\n";
+  EXPECT_GT(perturbed, 0.005 * diagonal);  // the perturbation is visible
+  EXPECT_LE(distance, 0.005 * diagonal);
+}
+
+/// Flexes the femur (bone 1) about the hip centre, pelvis fixed, from `step_deg` to
+/// 80° in steps of `step_deg`; at every frame: finite, volume within ±3 %, attached
+/// centres exactly with their bone, one surface component (2 mm cells).
+void runFlexion(int step_deg) {
+  const RbfSurface& s = gluteus();
+  const Attachments att = gluteusAttachments(s);
+  MuscleDeformer d(s.field, att);
+  ASSERT_EQ(checkMesh(d.extractSurface(2.0)).components, 1) << "rest";
   const Eigen::Vector3d hip = Eigen::Vector3d(143.225, 243.37, -432.499) - s.frame_offset_mm;
   const Eigen::Vector3d flexion_axis(-0.9924778435393229, 0.11879490607095865, 0.029588855590025775);  // pelvis Z (right)
-  for (int deg = 10; deg <= 80; deg += 10) {
+  for (int deg = step_deg; deg <= 80; deg += step_deg) {
     const std::vector<Eigen::Isometry3d> motion = {Eigen::Isometry3d::Identity(),
                                                    test::makeRotationAbout(hip, flexion_axis, deg * M_PI / 180.0)};
     const DeformResult& r = d.update(motion);
-    std::cout << deg << "°: volume ratio " << r.volume_ratio << ", cost " << r.curvature_cost << ", iterations "
-              << r.iterations << " (" << toString(r.stop_reason) << "), predict " << r.predict_ms << " ms, descent "
-              << r.descent_ms << " ms, volume " << r.volume_ms << " ms\n";
+    const int components = checkMesh(d.extractSurface(2.0)).components;
+    if (deg % 10 == 0) {
+      std::cout << deg << "°: components " << components << ", volume ratio " << r.volume_ratio << ", refit residual "
+                << r.refit_residual << " (" << r.refit_iterations << " CG), cost " << r.curvature_cost
+                << ", iterations " << r.iterations << " (" << toString(r.stop_reason) << "), predict " << r.predict_ms
+                << " ms, refit " << r.refit_ms << " ms, descent " << r.descent_ms << " ms, volume " << r.volume_ms
+                << " ms\n";
+    }
     ASSERT_TRUE(std::isfinite(r.volume_mm3) && std::isfinite(r.curvature_cost)) << deg;
-    ASSERT_TRUE(d.getField().getCentres().allFinite()) << deg;
+    ASSERT_TRUE(d.getField().getCentres().allFinite() && d.getField().getWeights().allFinite()) << deg;
     EXPECT_NEAR(r.volume_ratio, 1.0, 0.03) << deg;
+    EXPECT_EQ(components, 1) << deg << "°";
     for (int k = 0; k < s.field.getNumCentres(); ++k) {
       const int b = att.bone_of_centre[static_cast<size_t>(k)];
       if (b < 0) continue;
@@ -140,10 +140,13 @@ TEST(GluteusDynamics, DISABLED_FlexionStaysOneComponent_SplitsInto7At80Deg_Issue
       ASSERT_LT((d.getField().getCentres().col(k) - expected).norm(), 1e-6) << "centre " << k << " at " << deg;
     }
   }
-  // The 300-centre fit itself may have small detached blobs; the motion must not add any.
-  EXPECT_LE(countComponents(d.extractSurface(2.0)), rest_components);
-  std::cout << "components at rest " << rest_components << "\n";
 }
+
+TEST(GluteusDynamics, DISABLED_FlexionStaysFiniteWithVolumeAndAttachmentsHeld_3PiecesAt40Deg_Issue4Open) {
+  runFlexion(10);
+}
+
+TEST(GluteusDynamics, DISABLED_FlexionInOneDegreeStepsStaysOnePiece_Issue4Open) { runFlexion(1); }
 
 }  // namespace
 }  // namespace rbfmuscle
