@@ -205,6 +205,7 @@ void RBFMuscle::update(const FrameState& state) {
     result_.fiber_length_max_mm = f.max_mm;
     result_.fiber_length_normalised = f.normalised_mean;
     result_.fiber_projections = f.projected;
+    result_.fiber_points_outside = f.outside;
   }
   if (line_of_action_) result_.line_of_action_length_mm = calcPathLength(*line_of_action_, bone_motion_M_);
   result_.update_ms = msSince(start);

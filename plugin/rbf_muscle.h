@@ -42,6 +42,7 @@
 ///   fiber_length_mm (vector, one per fibre, columns fiber_length_mm_i), fiber_length_mean_mm,
 ///   fiber_length_min_mm, fiber_length_max_mm, fiber_length_normalised (mean / rest mean),
 ///   fiber_projections (fibre points pushed back inside this frame; core/fibres/fibre_tracker.h),
+///   fiber_points_outside (fibre points still with f ≤ 0 after the projection; 0 when all are inside),
 ///   line_of_action_length_mm (the path of line_of_action_mm, or the straight line).
 /// Frame geometry (--frames-mesh): NAME (surface) and NAME_fibres (fibre polylines, ground, mm).
 /// The muscle frame M is the ground frame shifted to the rest mesh's box centre.
@@ -117,6 +118,8 @@ class RBFMuscle final : public Component {
                                  [this] { return result_.fiber_length_normalised; }};
   Output fiber_projections{this, "fiber_projections", "1", "fibre points pushed back inside this frame",
                            [this] { return result_.fiber_projections; }};
+  Output fiber_points_outside{this, "fiber_points_outside", "1", "fibre points still outside (f ≤ 0) after projection",
+                              [this] { return result_.fiber_points_outside; }};
   Output line_of_action_length_mm{this, "line_of_action_length_mm", "mm", "via-point (or straight) line-of-action length",
                                   [this] { return result_.line_of_action_length_mm; }};
 
@@ -144,6 +147,7 @@ class RBFMuscle final : public Component {
     double fiber_length_max_mm = kNaN;
     double fiber_length_normalised = kNaN;
     double fiber_projections = kNaN;
+    double fiber_points_outside = kNaN;
     double line_of_action_length_mm = kNaN;
   };
 

@@ -2,6 +2,7 @@
 /// over hip flexion 0→80° in 10° frames, with their line-of-action paths
 /// (models/hip/landmarks/line_of_action_paths.json: glmax2_r, iliacus_r).
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdio>
@@ -33,7 +34,9 @@ std::string muscleXml(const std::string& name, const std::string& mesh, const st
 class HipFlexionFibres : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin/fibres";
+    // ctest runs each TEST in its own process, possibly in parallel: one directory per process.
+    const std::string tag = "fibres_" + std::to_string(::getpid());
+    dir_ = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin" / tag;
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     const fs::path model = dir_ / "model.xml";
@@ -54,9 +57,10 @@ class HipFlexionFibres : public ::testing::Test {
                      "124.427 265.109 -493.253")
         << "  </components>\n</RBFMuscleModel>\n";
     result_ = test::runHost("run '" + model.string() + "' -o '" + (dir_ / "out").string() + "' --frames-mesh --quiet",
-                            "plugin", "fibres");
+                            "plugin", tag);
     if (result_.exit_code == 0) table_ = readStorage((dir_ / "out/outputs.sto").string());
   }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
   /// Value of `column` at frame `row` (row k = 10k degrees).
   static double at(const std::string& column, int row) {
     const int c = table_.findColumn(column);
@@ -82,10 +86,21 @@ TEST_F(HipFlexionFibres, RunsAndWritesEveryFibre) {
       EXPECT_LE(at(m + ".fiber_length_min_mm", row), at(m + ".fiber_length_mean_mm", row));
       EXPECT_LE(at(m + ".fiber_length_mean_mm", row), at(m + ".fiber_length_max_mm", row));
       EXPECT_TRUE(std::isfinite(at(m + ".fiber_projections", row)));
+      EXPECT_GE(at(m + ".fiber_points_outside", row), 0);
     }
     EXPECT_NEAR(at(m + ".fiber_length_normalised", 0), 1.0, 1e-9);
   }
   EXPECT_TRUE(fs::exists(dir_ / "out/glmax_r_fibres.pvd"));
+}
+
+// Issue 6 asks for every fibre point inside (f > 0) through 80° flexion. The gluteus
+// surface still tears between the bones at large angles (issue 4), so some of its fibre
+// points (81 of 1600 at 40° in a 10°-step run) end outside.
+TEST_F(HipFlexionFibres, DISABLED_EveryFibrePointStaysInside_GluteusTearsBetweenBones_Issue4And6Open) {
+  ASSERT_EQ(result_.exit_code, 0) << result_.err;
+  for (const std::string m : {"glmax_r", "iliacus_r"})
+    for (int row = 0; row < static_cast<int>(table_.rows.size()); ++row)
+      EXPECT_EQ(at(m + ".fiber_points_outside", row), 0) << m << " frame " << row;
 }
 
 TEST_F(HipFlexionFibres, GluteusLengthensAndIliacusShortens) {
