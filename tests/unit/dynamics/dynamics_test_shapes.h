@@ -7,9 +7,16 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <random>
 
 namespace rbfmuscle::test {
+
+/// One Gaussian, surface a sphere of radius 10 mm: λ e^{−α r²} − 5 = 0 at r = 10 for α = 0.01.
+inline GaussianField makeSphereField() {
+  Eigen::Matrix3Xd xi = Eigen::Matrix3Xd::Zero(3, 1);
+  return GaussianField(-5.0, xi, Eigen::VectorXd::Constant(1, 5.0 * std::exp(1.0)), Eigen::VectorXd::Constant(1, 0.01));
+}
 
 /// A rod-like "muscle" along x from about −38 to +38 mm: three rows (y = 0, ±4 mm)
 /// of 13 Gaussians at x = −30 … 30 (spacing 5 mm), α = 0.02 mm⁻², λ = 2.5 (±10 %

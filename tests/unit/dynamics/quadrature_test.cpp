@@ -2,19 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include "dynamics_test_shapes.h"
+
 #include <cmath>
 
 namespace rbfmuscle {
 namespace {
 
-/// One Gaussian, surface a sphere of radius 10 mm: λ e^{−α r²} − 5 = 0 at r = 10 for α = 0.01.
-GaussianField makeSphere() {
-  Eigen::Matrix3Xd xi = Eigen::Matrix3Xd::Zero(3, 1);
-  return GaussianField(-5.0, xi, Eigen::VectorXd::Constant(1, 5.0 * std::exp(1.0)), Eigen::VectorXd::Constant(1, 0.01));
-}
-
 TEST(Quadrature, CoversTheBandWithAboutTheTargetCount) {
-  const GaussianField field = makeSphere();
+  const GaussianField field = test::makeSphereField();
   QuadratureSettings settings;
   settings.target_count = 3000;
   const Quadrature q = makeQuadrature(field, settings);
@@ -37,7 +33,7 @@ TEST(Quadrature, CoversTheBandWithAboutTheTargetCount) {
 }
 
 TEST(Quadrature, RejectsAFarFieldInsideTheBand) {
-  GaussianField field = makeSphere();
+  GaussianField field = test::makeSphereField();
   field.setOffset(-3.0);  // −b − β = −1 < 0
   EXPECT_THROW(makeQuadrature(field, QuadratureSettings{}), std::invalid_argument);
 }

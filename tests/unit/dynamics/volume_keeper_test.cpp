@@ -3,25 +3,22 @@
 
 #include <gtest/gtest.h>
 
+#include "dynamics_test_shapes.h"
+
 #include <cmath>
 
 namespace rbfmuscle {
 namespace {
 
-GaussianField makeSphere() {
-  Eigen::Matrix3Xd xi = Eigen::Matrix3Xd::Zero(3, 1);
-  return GaussianField(-5.0, xi, Eigen::VectorXd::Constant(1, 5.0 * std::exp(1.0)), Eigen::VectorXd::Constant(1, 0.01));
-}
-
 TEST(VolumeKeeper, MeasuresASphere) {
-  const GaussianField field = makeSphere();
+  const GaussianField field = test::makeSphereField();
   const Quadrature q = makeQuadrature(field, QuadratureSettings{});
   const VolumeKeeper keeper(q.points_mm, q.weights_mm3(0), field, VolumeSettings{});
   EXPECT_NEAR(keeper.getRestVolume() / (4.0 / 3.0 * M_PI * 1000.0), 1.0, 0.03);
 }
 
 TEST(VolumeKeeper, RestoresTheVolumeOfAShrunkenSphereByTheOffset) {
-  GaussianField field = makeSphere();
+  GaussianField field = test::makeSphereField();
   const Quadrature q = makeQuadrature(field, QuadratureSettings{});
   VolumeKeeper keeper(q.points_mm, q.weights_mm3(0), field, VolumeSettings{});
   field.setWeights(Eigen::VectorXd::Constant(1, 0.8 * 5.0 * std::exp(1.0)));  // radius 10 → 9.03 mm
@@ -36,7 +33,7 @@ TEST(VolumeKeeper, RestoresTheVolumeOfAShrunkenSphereByTheOffset) {
 }
 
 TEST(VolumeKeeper, ReportsTheOffsetBoundInsteadOfGoingPastIt) {
-  GaussianField field = makeSphere();
+  GaussianField field = test::makeSphereField();
   const Quadrature q = makeQuadrature(field, QuadratureSettings{});
   VolumeSettings settings;
   settings.max_offset_change = 0.2;
