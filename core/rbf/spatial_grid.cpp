@@ -113,13 +113,6 @@ void SpatialGrid::index() {
   cell_start_[0] = 0;
 }
 
-void SpatialGrid::scanAll(const Eigen::Vector3d& p_mm, double radius_sq_mm2,
-                          std::vector<int>& out) const {
-  for (Eigen::Index i = 0; i < points_mm_.cols(); ++i)
-    if ((points_mm_.col(i) - p_mm).squaredNorm() <= radius_sq_mm2)
-      out.push_back(static_cast<int>(i));
-}
-
 void SpatialGrid::findWithinRadius(const Eigen::Vector3d& p_mm, double radius_mm,
                                    std::vector<int>& out) const {
   if (findWithinRadiusUnordered(p_mm, radius_mm, out))
@@ -129,26 +122,10 @@ void SpatialGrid::findWithinRadius(const Eigen::Vector3d& p_mm, double radius_mm
 bool SpatialGrid::findWithinRadiusUnordered(const Eigen::Vector3d& p_mm, double radius_mm,
                                             std::vector<int>& out) const {
   out.clear();
-  int lo[3], hi[3];
   const double radius_sq = radius_mm * radius_mm;
-  switch (findCellRange(p_mm, radius_mm, lo, hi)) {
-    case CellRange::kNone:
-      return false;
-    case CellRange::kAll:
-      scanAll(p_mm, radius_sq, out);
-      return false;
-    case CellRange::kCells:
-      break;
-  }
-  for (int z = lo[2]; z <= hi[2]; ++z)
-    for (int y = lo[1]; y <= hi[1]; ++y) {
-      const std::size_t row = static_cast<std::size_t>(z * dims_[1] + y) * dims_[0];
-      const int end = cell_start_[row + static_cast<std::size_t>(hi[0]) + 1];
-      for (int k = cell_start_[row + static_cast<std::size_t>(lo[0])]; k < end; ++k)
-        if ((sorted_points_mm_.col(k) - p_mm).squaredNorm() <= radius_sq)
-          out.push_back(sorted_index_[static_cast<std::size_t>(k)]);
-    }
-  return true;
+  return visitCandidates(p_mm, radius_mm, [&](int i, const auto& p_i) {
+    if ((p_i - p_mm).squaredNorm() <= radius_sq) out.push_back(i);
+  });
 }
 
 SpatialGrid::CellRange SpatialGrid::findCellRange(const Eigen::Vector3d& p_mm, double radius_mm,

@@ -55,17 +55,19 @@ class SpatialGrid {
   /// of half-side radius_mm around p_mm (a superset of the ball; no distance
   /// test), in an order fixed by the points' cells; or for every point when
   /// that is cheaper. For callers with their own per-point test.
+  /// @return true when the visit went cell by cell, false when it went in
+  ///   ascending index order (every point) or visited nothing.
   /// @throws std::invalid_argument if `p_mm` is not finite.
   template <class Visitor>
-  void visitCandidates(const Eigen::Vector3d& p_mm, double radius_mm, Visitor&& visit) const {
+  bool visitCandidates(const Eigen::Vector3d& p_mm, double radius_mm, Visitor&& visit) const {
     int lo[3], hi[3];
     switch (findCellRange(p_mm, radius_mm, lo, hi)) {
       case CellRange::kNone:
-        return;
+        return false;
       case CellRange::kAll:
         for (Eigen::Index i = 0; i < points_mm_.cols(); ++i)
           visit(static_cast<int>(i), points_mm_.col(i));
-        return;
+        return false;
       case CellRange::kCells:
         break;
     }
@@ -76,6 +78,7 @@ class SpatialGrid {
         for (int k = cell_start_[row + static_cast<std::size_t>(lo[0])]; k < end; ++k)
           visit(sorted_index_[static_cast<std::size_t>(k)], sorted_points_mm_.col(k));
       }
+    return true;
   }
 
   /// Number of indexed points N.
@@ -95,8 +98,6 @@ class SpatialGrid {
   /// the box, or kAll when testing every point is cheaper.
   CellRange findCellRange(const Eigen::Vector3d& p_mm, double radius_mm, int lo[3],
                           int hi[3]) const;
-  /// Tests every point (ascending by construction).
-  void scanAll(const Eigen::Vector3d& p_mm, double radius_sq_mm2, std::vector<int>& out) const;
 
   double requested_cell_size_mm_ = 1.0;
   double cell_size_mm_ = 1.0;
