@@ -5,6 +5,7 @@
 #include "framework/plugin_loader.h"
 #include "framework/registry.h"
 #include "framework/simulation.h"
+#include "host/model_overrides.h"
 
 #include <unistd.h>
 
@@ -19,7 +20,8 @@ namespace {
 namespace fs = std::filesystem;
 
 const char* const kRunHelp =
-    "usage: rbfmuscle run MODEL.xml -o OUTDIR [-L PLUGIN]... [--frames-mesh] [--quiet]\n"
+    "usage: rbfmuscle run MODEL.xml -o OUTDIR [-L PLUGIN]... [--set C.P=V]... [--motion FILE]\n"
+    "                     [--frames-mesh] [--quiet]\n"
     "\n"
     "Loads the plugins, builds the model from MODEL.xml, steps through its motion\n"
     "and writes, all or nothing (a failed run leaves OUTDIR untouched):\n"
@@ -31,6 +33,11 @@ const char* const kRunHelp =
     "options:\n"
     "  -o, --output OUTDIR  output directory (required)\n"
     "  -L, --library PLUGIN load a component plugin (repeatable); see 'plugins' below\n"
+    "  --set COMPONENT.PROPERTY=VALUE\n"
+    "                       override (or add) a property of a component in MODEL.xml\n"
+    "                       (repeatable; later ones win), e.g. --set glmax_r.quadrature_points=2000\n"
+    "  --motion FILE        use this motion file instead of MODEL.xml's (path relative to\n"
+    "                       the current directory)\n"
     "  --frames-mesh        write each component's geometry per frame\n"
     "  --quiet              no progress on stderr\n"
     "  -h, --help           this text\n";
@@ -62,6 +69,8 @@ struct CommandLine {
   std::vector<std::string> positional;
   std::vector<std::string> plugins;
   std::string output;
+  std::vector<std::string> overrides;  ///< --set COMPONENT.PROPERTY=VALUE, in order
+  std::string motion;                  ///< --motion FILE ("" = the model's)
   bool frames_mesh = false;
   bool quiet = false;
   bool help = false;
@@ -84,6 +93,10 @@ CommandLine parseCommandLine(const std::vector<std::string>& args, bool with_run
       line.plugins.push_back(a.substr(2));
     } else if (with_run && (a == "-o" || a == "--output")) {
       line.output = value();
+    } else if (with_run && a == "--set") {
+      line.overrides.push_back(value());
+    } else if (with_run && a == "--motion") {
+      line.motion = value();
     } else if (with_run && a == "--frames-mesh") {
       line.frames_mesh = true;
     } else if (with_run && a == "--quiet") {
@@ -113,7 +126,7 @@ std::string usageText() {
              "usage: rbfmuscle COMMAND [OPTIONS]\n"
              "\n"
              "commands:\n"
-             "  run MODEL.xml -o OUTDIR [-L PLUGIN]... [--frames-mesh]  run a model's motion\n"
+             "  run MODEL.xml -o OUTDIR [-L PLUGIN]... [--set C.P=V]... run a model's motion\n"
              "  info [-L PLUGIN]... [CLASS]                            list component types\n") +
 #ifdef RBFMUSCLE_HAVE_FIT
          "  fit ...                                                fit a muscle surface\n" +
@@ -136,6 +149,8 @@ int runCommand(const std::vector<std::string>& args) {
   Registry registry;
   PluginLoader loader;
   ModelDocument document = readModelDocument(line.positional[0]);
+  for (const std::string& assignment : line.overrides) applyPropertyOverride(document, assignment);
+  if (!line.motion.empty()) overrideMotion(document, line.motion);
   loadPlugins(line.plugins, document.directory, loader, registry);
   for (const FileReference& plugin : document.plugins) {
     try {

@@ -14,7 +14,8 @@ class UsageError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-/// `rbfmuscle run MODEL.xml -o OUTDIR [-L plugin]... [--frames-mesh] [--quiet]`.
+/// `rbfmuscle run MODEL.xml -o OUTDIR [-L plugin]... [--set COMPONENT.PROPERTY=VALUE]...
+///  [--motion FILE] [--frames-mesh] [--quiet]`.
 /// @param args the arguments after "run". @return exit code.
 int runCommand(const std::vector<std::string>& args);
 

@@ -1,0 +1,27 @@
+#pragma once
+/// @file
+/// Command-line changes to a parsed model document, for sweeps without editing
+/// the model file: `--set COMPONENT.PROPERTY=VALUE` and `--motion FILE`.
+/// They act on the document before any component is built, so a bad property
+/// name or value is reported by Model::build like one written in the XML, with
+/// the location "command line: --set ...".
+#include "framework/model_document.h"
+
+#include <string>
+
+namespace rbfmuscle {
+
+/// Sets (or adds) property PROPERTY of component COMPONENT to the text VALUE.
+/// `assignment` is "COMPONENT.PROPERTY=VALUE"; COMPONENT is a component name
+/// (no '.'), VALUE may be empty and may contain '=' and spaces.
+/// @throws UsageError when `assignment` is not of that form;
+///   FrameworkError naming the assignment and listing the model's components
+///   when no component is called COMPONENT.
+void applyPropertyOverride(ModelDocument& document, const std::string& assignment);
+
+/// Replaces the motion file by `path` (relative to the current directory).
+/// Errors reading it later name "command line: --motion PATH".
+/// @throws UsageError when `path` is empty.
+void overrideMotion(ModelDocument& document, const std::string& path);
+
+}  // namespace rbfmuscle
