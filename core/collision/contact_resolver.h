@@ -1,0 +1,194 @@
+#pragma once
+/// @file
+/// Keeps a muscle's implicit surface out of its bones: probes on f = 0, signed distances
+/// to each bone by FCL-backed BoneSets, free centres moved by a minimum-norm linearised
+/// correction, and the number of sub-steps a frame needs against tunnelling (issue 5,
+/// DESIGN.md "Bone contacts").
+#include <limits>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "collision/bone_set.h"
+#include "geometry/triangle_mesh.h"
+#include "rbf/gaussian_field.h"
+
+namespace rbfmuscle {
+
+/// One bone for a ContactResolver: its closed, outward-wound surface in its body frame B
+/// (mm) and its rest pose X_MB in the muscle frame M.
+struct ContactBone {
+  std::string name;                                               ///< bone name (messages)
+  TriangleMesh mesh_B;                                            ///< surface in B (mm)
+  Eigen::Isometry3d X_MB_rest = Eigen::Isometry3d::Identity();    ///< B in M at rest (mm)
+};
+
+/// Settings of a ContactResolver (lengths in mm).
+struct ContactSettings {
+  /// Accepted penetration beyond the rest overlap (mm): the response stops once every
+  /// probe's excess depth e = −s − a ≤ this (s signed distance, a allowance, see class).
+  double tolerance_mm = 0.5;
+  /// Extra inward move of the surface at a constrained probe beyond its excess depth (mm).
+  double margin_mm = 0.1;
+  /// Cap on response iterations (re-project, re-query, solve) per resolve call.
+  int max_iterations = 10;
+  /// Newton steps per projection of a probe onto f = 0, each at most newton_step_cap_mm.
+  int newton_steps = 3;
+  double newton_step_cap_mm = 1.0;  ///< longest Newton step (mm)
+  double projection_tolerance_mm = 0.01;  ///< |f|/‖∇f‖ at which a projection stops (mm)
+  /// Probes whose certified lower bound on s − (−a) is above this are not queried (mm).
+  double query_band_mm = 1.0;
+  /// Largest move of one centre in one response iteration (mm); the step is scaled down to it.
+  double max_centre_step_mm = 2.0;
+  /// Tunnelling guard: a frame is split so that no bone point near the muscle moves more
+  /// than this fraction of the local muscle thickness per sub-step.
+  double safe_fraction = 0.5;
+  int max_substeps = 16;            ///< cap on sub-steps per frame
+  double thickness_step_mm = 0.5;   ///< marching step of the rest thickness (mm)
+  double thickness_max_mm = 80.0;   ///< thickness assumed where the march finds no far side (mm)
+};
+
+/// Why ContactResolver::resolve stopped.
+enum class ContactStop {
+  kWithinTolerance,  ///< every probe's excess depth ≤ tolerance (also when nothing touched)
+  kIterationCap,     ///< max_iterations responses done, still a probe beyond tolerance
+  kNoFreeCentre,     ///< the penetrating probes are moved by attached centres only
+  kMeasureOnly       ///< resolve was asked to measure only (respond = false)
+};
+
+/// One resolve call's figures.
+struct ContactReport {
+  /// Probes inside a bone beyond their allowance (e > 0) at the first measurement.
+  int contacts = 0;
+  /// max(0, max_i e_i) at the first measurement, before any response (mm).
+  double max_penetration_before_mm = 0.0;
+  /// max(0, max_i e_i) at the last measurement (mm); ≤ tolerance unless the stop says otherwise.
+  double max_penetration_mm = 0.0;
+  int iterations = 0;         ///< responses (centre moves) done
+  ContactStop stop = ContactStop::kWithinTolerance;  ///< why it stopped
+  long long probe_queries = 0;  ///< exact (probe, bone) distance queries over all measurements
+  long long projections = 0;    ///< probe projections onto f = 0 over all measurements
+  int moved_centres = 0;        ///< distinct free centres moved
+  double ms = std::numeric_limits<double>::quiet_NaN();  ///< wall time (ms)
+};
+
+/// Contact handling of one muscle against a few rigid bones (all in the muscle frame M, mm).
+///
+/// **Probes.** P points on the rest surface f₀ = 0 (e.g. sampleSurfaceProbes of the rest
+/// surface), projected onto f₀ = 0 at construction. Each frame the caller carries the rest
+/// probes with the muscle's own prediction (the dual-quaternion blend of the deformer) to c_i;
+/// the probe starts at x_i = p_i + (c_i − c_i^prev) (its last surface point moved by the change
+/// of prediction, as the deformer's warm start) and is pulled onto the current f = 0 by
+/// projectOntoSurface (≤ newton_steps · newton_step_cap_mm of travel).
+///
+/// **Rest overlap** (the pelvis proxy overlaps the iliacus by up to 8 mm): each probe i gets
+/// an allowance a_ib = max(0, −s_ib(rest)) against bone b, its rest penetration depth; only
+/// the excess e_ib = −s_ib − a_ib counts as penetration. A probe outside bone b at rest
+/// (a = 0) is held to the plain rule s ≥ −tolerance; a probe that started 8 mm inside the
+/// pelvis may stay up to 8 mm inside but no deeper. Chosen over excluding such probes so an
+/// overlapping region cannot sink further into the bone unnoticed.
+///
+/// **Culling.** One BoneSet per bone gives per-bone signed distances. Each (i, b) keeps the
+/// reference s_ref and probe position p_ref (bone frame) of its last exact query; as s is
+/// 1-Lipschitz, s_ib ≥ s_ref − ‖X_BM x − p_ref‖ − (projection travel), and the pair is
+/// queried only when that bound is below −a_ib + query_band_mm. A probe with no pair to
+/// query is not projected either. Queries use the radius query_band_mm + travel + 10 mm;
+/// a probe with no bone within it records the radius as its (valid) lower bound.
+///
+/// **Response** (respond = true). While some e_i = max_b e_ib > tolerance, for every probe
+/// with e_i > 0 the linearised constraint
+///   f(p_i) + Σ_{k free} ∂f(p_i)/∂ξ_k · Δξ_k = −(e_i + margin)·‖∇f(p_i)‖
+/// asks the surface to move inward at p_i by its excess depth plus the margin (the push
+/// direction is the field's, so a thin bone does not pull the surface two ways). The
+/// minimum-norm Δξ over the free centres active at the probes (attached centres never
+/// move) is Aᵀ(AAᵀ + μI)⁻¹r when the rows are fewer than the unknowns, otherwise the
+/// regularised least squares (AᵀA + μI)⁻¹Aᵀr, μ = 1e-9·tr/n; it is scaled so no centre moves
+/// more than max_centre_step_mm; then probes are re-projected and re-queried. All bones are
+/// resolved together (a probe's excess is its worst bone). Stops: ContactStop.
+///
+/// **Tunnelling guard** (calcSubsteps): for each probe and bone that can touch this frame
+/// (certified distance at the previous frame, plus allowance, below the relative move δ_ib of
+/// the probe in the bone frame), the frame needs ⌈δ_ib / (safe_fraction · t_i)⌉ sub-steps,
+/// t_i the probe's rest thickness along the inward normal (calcLocalThickness); the caller
+/// interpolates the poses (interpolateScrew) and calls resolve per sub-step.
+///
+/// Limits: penetration is measured at the probes (a sharp bone edge between probes is not
+/// seen); a probe whose surface point is more than the projection travel from where it
+/// starts is left where the travel ends.
+class ContactResolver {
+ public:
+  /// @param bones bones with their body-frame meshes and rest poses in M (≥ 1)
+  /// @param rest_field the muscle's rest field f₀ in M
+  /// @param rest_probes_M 3×P probe points on or near f₀ = 0 (M, mm), P ≥ 1
+  /// @param free_centres per centre of the field, true if the response may move it
+  /// @throws CollisionError on no bone or probe, a mask of the wrong size, bad settings
+  ///   (message names the setting), or a bone BoneSet rejects.
+  ContactResolver(std::vector<ContactBone> bones, const GaussianField& rest_field,
+                  const Eigen::Matrix3Xd& rest_probes_M, std::vector<bool> free_centres,
+                  const ContactSettings& settings = {});
+
+  /// Sub-steps (1 … max_substeps) the step from the last resolved poses to `X_MB` (one per
+  /// bone) and carried probes `carried_M` (3×P) needs (class comment). Const.
+  /// @throws CollisionError on a wrong count.
+  int calcSubsteps(const std::vector<Eigen::Isometry3d>& X_MB, const Eigen::Matrix3Xd& carried_M) const;
+
+  /// Measures, and if `respond` resolves, the contacts of `field` (M; its free centres are
+  /// moved in place) with the bones at `X_MB` (B in M, one per bone), the rest probes carried
+  /// to `carried_M` (3×P). The poses and carried probes become the reference of the next call.
+  /// @throws CollisionError on wrong counts or a field with another number of centres.
+  const ContactReport& resolve(const std::vector<Eigen::Isometry3d>& X_MB, const Eigen::Matrix3Xd& carried_M,
+                               GaussianField& field, bool respond);
+
+  /// Number of probes P.
+  int countProbes() const { return static_cast<int>(probes_M_.cols()); }
+  /// Number of bones B.
+  int countBones() const { return static_cast<int>(bones_.size()); }
+  /// Current probe points (3×P, M, mm): on f = 0 where last projected.
+  const Eigen::Matrix3Xd& getProbes() const { return probes_M_; }
+  /// Rest signed distances s_ib(rest) (P×B, mm; capped at the rest query radius 1e6 mm).
+  const Eigen::MatrixXd& getRestSignedDistances() const { return rest_distance_mm_; }
+  /// Allowances a_ib = max(0, −s_ib(rest)) (P×B, mm).
+  const Eigen::MatrixXd& getAllowances() const { return allowance_mm_; }
+  /// Rest thickness t_i at each probe (P, mm).
+  const Eigen::VectorXd& getThickness() const { return thickness_mm_; }
+  /// The last report.
+  const ContactReport& getReport() const { return report_; }
+  /// The settings.
+  const ContactSettings& getSettings() const { return settings_; }
+
+ private:
+  /// Projects and queries the probes that may be within the band of a bone; fills excess_.
+  /// @return max(0, max_i e_i)
+  double measure(const GaussianField& field);
+  /// One minimum-norm response step; @return false when no free centre acts on the rows.
+  bool respondOnce(GaussianField& field);
+  /// Marks for re-projection the probes within the influence radius of the moved `centres`
+  /// (global indices; old positions in `old_centres`).
+  void markDirty(const GaussianField& field, const std::vector<int>& centres, const Eigen::Matrix3Xd& old_centres);
+
+  std::vector<ContactBone> bones_;
+  std::vector<BoneSet> bone_sets_;  ///< one bone each: per-bone signed distances
+  std::vector<bool> free_centres_;
+  ContactSettings settings_;
+  Eigen::Matrix3Xd probes_M_;        ///< p_i, current
+  Eigen::Matrix3Xd carried_prev_M_;  ///< c_i of the last call
+  std::vector<Eigen::Isometry3d> X_MB_prev_;
+  Eigen::MatrixXd rest_distance_mm_;  ///< P×B
+  Eigen::MatrixXd allowance_mm_;      ///< P×B
+  Eigen::MatrixXd ref_distance_mm_;   ///< P×B lower bound of s at ref_point_B_
+  std::vector<Eigen::Matrix3Xd> ref_point_B_;  ///< per bone, 3×P probe in B at its last query
+  Eigen::VectorXd thickness_mm_;
+  Eigen::VectorXd excess_mm_;          ///< e_i of the last measurement (−∞ when not queried)
+  std::vector<bool> moved_;            ///< per centre, moved in this call
+  std::vector<bool> dirty_;            ///< per probe, to re-project (a centre near it moved)
+  // scratch
+  std::vector<int> query_index_;
+  Eigen::Matrix3Xd query_points_;
+  std::vector<ContactQueryResult> query_out_;
+  std::vector<bool> relevant_;
+  ContactReport report_;
+};
+
+}  // namespace rbfmuscle

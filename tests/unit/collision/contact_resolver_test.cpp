@@ -1,0 +1,198 @@
+/// ContactResolver on analytic muscles: a Gaussian sphere (radius 10 mm, one free centre, so
+/// the response can only translate it) pressed by a moving box, swept by a thin plate with and
+/// without sub-steps, and overlapping a bone at rest; plus the probe helpers and the screw
+/// interpolation it relies on.
+#include "collision/contact_resolver.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "collision/collision_error.h"
+#include "collision/screw_interpolation.h"
+#include "collision/surface_probes.h"
+#include "support/eigen_compare.h"
+#include "unit/geometry/test_meshes.h"
+
+namespace rbfmuscle {
+namespace {
+
+using test::isApprox;
+constexpr double kRadius = 10.0;
+const Eigen::Vector3d kAttachedCentre(100.0, 0.0, 0.0);
+
+/// Two Gaussian spheres of radius 10 mm (λ e^{−α r²} − 5 = 0 at r = 10, α = 0.01): centre 0
+/// at the origin (free), centre 1 at (100, 0, 0) (attached, far from every bone).
+GaussianField makeTwoSpheres() {
+  Eigen::Matrix3Xd xi(3, 2);
+  xi << Eigen::Vector3d::Zero(), kAttachedCentre;
+  return GaussianField(-5.0, xi, Eigen::VectorXd::Constant(2, 5.0 * std::exp(1.0)), Eigen::VectorXd::Constant(2, 0.01));
+}
+
+/// n Fibonacci points on each sphere of makeTwoSpheres (mm).
+Eigen::Matrix3Xd makeProbes(int n) {
+  Eigen::Matrix3Xd p(3, 2 * n);
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double y = 1.0 - 2.0 * (i + 0.5) / n, r = std::sqrt(1.0 - y * y);
+    const Eigen::Vector3d u(r * std::cos(golden * i), y, r * std::sin(golden * i));
+    p.col(i) = kRadius * u;
+    p.col(n + i) = kAttachedCentre + kRadius * u;
+  }
+  return p;
+}
+
+/// A box [−a, a] × [−h, h] × [−a, a] (mm) in its body frame.
+TriangleMesh makeBox(double a, double h) {
+  TriangleMesh m = test::makeCube(1.0, -0.5);
+  m.vertices_mm = Eigen::Vector3d(2 * a, 2 * h, 2 * a).asDiagonal() * m.vertices_mm;
+  return m;
+}
+
+Eigen::Isometry3d translationY(double y) {
+  return Eigen::Isometry3d(Eigen::Translation3d(0.0, y, 0.0));
+}
+
+ContactResolver makeResolver(const TriangleMesh& bone, double rest_y, const GaussianField& field) {
+  return ContactResolver({ContactBone{"bone", bone, translationY(rest_y)}}, field, makeProbes(300), {true, false});
+}
+
+TEST(ContactResolver, SpherePressedByMovingBoxEndsWithinToleranceAttachedCentreUnmoved) {
+  GaussianField field = makeTwoSpheres();
+  const double half = 50.0;
+  ContactResolver resolver = makeResolver(makeBox(half, half), kRadius + 2.0 + half, field);  // bottom face y = 12
+  const Eigen::Matrix3Xd carried = makeProbes(300);
+  double face_y = kRadius + 2.0;
+  for (int frame = 0; frame < 8; ++frame) {
+    face_y -= 2.0;
+    const std::vector<Eigen::Isometry3d> pose = {translationY(face_y + half)};
+    EXPECT_EQ(resolver.calcSubsteps(pose, carried), 1);
+    const ContactReport& r = resolver.resolve(pose, carried, field, true);
+    EXPECT_EQ(r.stop, ContactStop::kWithinTolerance) << "frame " << frame;
+    EXPECT_LE(r.max_penetration_mm, 0.5) << "frame " << frame;
+  }
+  // Face at y = −6: the sphere's top sits just below it, pushed no further than needed.
+  const Eigen::Vector3d c = field.getCentres().col(0);
+  EXPECT_LE(c.y() + kRadius, face_y + 0.5);
+  EXPECT_GE(c.y() + kRadius, face_y - 1.0);
+  EXPECT_NEAR(c.x(), 0.0, 0.3);
+  EXPECT_NEAR(c.z(), 0.0, 0.3);
+  EXPECT_TRUE(field.getCentres().col(1) == kAttachedCentre);
+}
+
+TEST(ContactResolver, ThinPlateSweptThroughSphereTunnelsWithoutSubstepsAndIsCaughtWithThem) {
+  const TriangleMesh plate = makeBox(30.0, 2.0);  // 60 × 4 × 60 mm
+  const Eigen::Isometry3d start = translationY(14.0), end = translationY(-2.0);  // y ∈ [12, 16] → [−4, 0]
+  const Eigen::Matrix3Xd carried = makeProbes(300);
+
+  GaussianField direct = makeTwoSpheres();
+  ContactResolver one_step = makeResolver(plate, 14.0, direct);
+  one_step.resolve({end}, carried, direct, true);
+  // Tunnelled: the plate went through the top of the sphere, whose centre stayed above its bottom face.
+  EXPECT_GT(direct.getCentres()(1, 0), -4.0);
+
+  GaussianField guarded = makeTwoSpheres();
+  ContactResolver resolver = makeResolver(plate, 14.0, guarded);
+  const int substeps = resolver.calcSubsteps({end}, carried);
+  EXPECT_GE(substeps, 2);  // 16 mm against 0.5 × 20 mm
+  for (int s = 1; s <= substeps; ++s) {
+    const ContactReport& r =
+        resolver.resolve({interpolateScrew(start, end, double(s) / substeps)}, carried, guarded, true);
+    EXPECT_LE(r.max_penetration_mm, 0.5) << "sub-step " << s;
+  }
+  // Caught: the sphere was pushed below the plate (top ≤ −4 mm, within the tolerance).
+  const double top = guarded.getCentres()(1, 0) + kRadius;
+  EXPECT_LE(top, -4.0 + 0.5);
+  EXPECT_GE(top, -4.0 - 1.5);
+  EXPECT_LT(guarded.calcValue(Eigen::Vector3d(0, -2, 0)), 0.0);
+  EXPECT_TRUE(guarded.getCentres().col(1) == kAttachedCentre);
+}
+
+TEST(ContactResolver, RestOverlapIsNotPushedOnlyTheExcess) {
+  GaussianField field = makeTwoSpheres();
+  const double half = 50.0, overlap = 3.0;
+  const double rest_face = kRadius - overlap;  // bottom face 3 mm inside the sphere at rest
+  ContactResolver resolver = makeResolver(makeBox(half, half), rest_face + half, field);
+  EXPECT_NEAR(resolver.getAllowances().maxCoeff(), overlap, 0.05);
+  const Eigen::Matrix3Xd carried = makeProbes(300);
+  for (int frame = 0; frame < 3; ++frame) {
+    const ContactReport& r = resolver.resolve({translationY(rest_face + half)}, carried, field, true);
+    EXPECT_EQ(r.iterations, 0);
+    EXPECT_EQ(r.contacts, 0);
+    EXPECT_LE(r.max_penetration_mm, 1e-6);
+  }
+  EXPECT_TRUE(field.getCentres().col(0) == Eigen::Vector3d::Zero());
+  // 2 mm further in: the sphere moves down by about those 2 mm, not by the 5 mm of total depth.
+  const ContactReport& r = resolver.resolve({translationY(rest_face - 2.0 + half)}, carried, field, true);
+  EXPECT_LE(r.max_penetration_mm, 0.5);
+  EXPECT_GT(r.max_penetration_before_mm, 1.5);
+  EXPECT_NEAR(field.getCentres()(1, 0), -2.0, 0.6);
+}
+
+TEST(ContactResolver, MeasureOnlyLeavesTheFieldAndAttachedOnlyCannotRespond) {
+  GaussianField field = makeTwoSpheres();
+  ContactResolver measuring = makeResolver(makeBox(50, 50), 62.0, field);
+  const ContactReport& r = measuring.resolve({translationY(50.0 + 8.0)}, makeProbes(300), field, false);
+  EXPECT_EQ(r.stop, ContactStop::kMeasureOnly);
+  EXPECT_NEAR(r.max_penetration_mm, 2.0, 0.05);  // face at y = 8, sphere top at 10
+  EXPECT_GT(r.contacts, 0);
+  EXPECT_TRUE(field.getCentres().col(0) == Eigen::Vector3d::Zero());
+
+  ContactResolver attached({ContactBone{"bone", makeBox(50, 50), translationY(62.0)}}, field, makeProbes(300),
+                           {false, false});
+  EXPECT_EQ(attached.resolve({translationY(58.0)}, makeProbes(300), field, true).stop, ContactStop::kNoFreeCentre);
+  EXPECT_TRUE(field.getCentres().col(0) == Eigen::Vector3d::Zero());
+}
+
+TEST(ContactResolver, BadInputNamesTheFault) {
+  const GaussianField field = makeTwoSpheres();
+  ContactSettings settings;
+  settings.tolerance_mm = -1.0;
+  try {
+    ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10), {true, false},
+                    settings);
+    FAIL() << "expected CollisionError";
+  } catch (const CollisionError& e) {
+    EXPECT_NE(std::string(e.what()).find("tolerance_mm"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10), {true}),
+               CollisionError);
+  EXPECT_THROW(ContactResolver({}, field, makeProbes(10), {true, false}), CollisionError);
+}
+
+TEST(SurfaceProbes, ProjectionThicknessAndSampling) {
+  const GaussianField field = makeTwoSpheres();
+  Eigen::Vector3d x(3.0, 4.0, 5.0);  // inside, 7.07 mm from the centre
+  EXPECT_TRUE(projectOntoSurface(field, x, 20, 2.0, 1e-6));
+  EXPECT_NEAR(x.norm(), kRadius, 1e-5);
+  EXPECT_NEAR(calcLocalThickness(field, Eigen::Vector3d(0, kRadius, 0), 0.5, 80.0), 2 * kRadius, 1e-4);
+  Eigen::Vector3d far(0.0, 30.0, 0.0);
+  EXPECT_FALSE(projectOntoSurface(field, far, 2, 1.0, 1e-6));
+  EXPECT_NEAR(far.y(), 28.0, 1e-12);  // two capped steps of 1 mm
+
+  const TriangleMesh sphere = test::makeIcosphere(kRadius, 4);  // 2562 vertices
+  const Eigen::Matrix3Xd probes = sampleSurfaceProbes(sphere, 500);
+  EXPECT_LE(probes.cols(), 500);
+  EXPECT_GE(probes.cols(), 400);
+  EXPECT_EQ(sampleSurfaceProbes(sphere, 100000).cols(), sphere.countVertices());
+  EXPECT_THROW(sampleSurfaceProbes(sphere, 0), std::invalid_argument);
+}
+
+TEST(ScrewInterpolation, RotationAboutAPointFollowsTheArc) {
+  const Eigen::Vector3d c(143.0, 243.0, -432.0), axis = Eigen::Vector3d(0.2, 0.1, 1.0).normalized();
+  const auto about = [&](double angle) {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() = Eigen::AngleAxisd(angle, axis).toRotationMatrix();
+    X.translation() = c - X.linear() * c + 3.0 * angle * axis;  // a screw: rotation plus slide
+    return X;
+  };
+  const Eigen::Isometry3d a = about(0.2), b = about(1.0);
+  EXPECT_TRUE(isApprox(interpolateScrew(a, b, 0.0).matrix(), a.matrix(), 1e-9));
+  EXPECT_TRUE(isApprox(interpolateScrew(a, b, 1.0).matrix(), b.matrix(), 1e-9));
+  EXPECT_TRUE(isApprox(interpolateScrew(a, b, 0.25).matrix(), about(0.4).matrix(), 1e-9));
+  const Eigen::Isometry3d t0(Eigen::Translation3d(1, 2, 3)), t1(Eigen::Translation3d(5, 2, 3));
+  EXPECT_TRUE(isApprox(interpolateScrew(t0, t1, 0.5).translation(), Eigen::Vector3d(3, 2, 3), 1e-12));
+}
+
+}  // namespace
+}  // namespace rbfmuscle
