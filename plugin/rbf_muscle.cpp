@@ -1,9 +1,14 @@
 #include "rbf_muscle.h"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <sstream>
 
+#include "collision/contact_resolver.h"
+#include "collision/screw_interpolation.h"
+#include "collision/surface_probes.h"
 #include "dynamics/attachment.h"
 #include "dynamics/muscle_deformer.h"
 #include "fibres/fibre_generator.h"
@@ -56,6 +61,26 @@ TriangleMesh loadBoneMesh_M(const Skeleton& skeleton, int body, const Eigen::Vec
   if (all.triangles.cols() == 0)
     throw FrameworkError("proximity_mm > 0 needs a mesh on body '" + skeleton.getBodyNames()[body] +
                          "' in " + skeleton.getUrdfPath());
+  return all;
+}
+
+/// A body's collision meshes (visual ones if it has none) in its body frame B (mm); empty
+/// when the body has no mesh.
+TriangleMesh loadBoneMesh_B(const Skeleton& skeleton, int body) {
+  const std::vector<BodyMesh>& meshes = skeleton.getBodyMeshes(body);
+  bool any_collision = false;
+  for (const BodyMesh& m : meshes) any_collision |= m.collision;
+  TriangleMesh all;
+  for (const BodyMesh& m : meshes) {
+    if (m.collision != any_collision) continue;
+    TriangleMesh part = loadMesh(m.path);
+    const Eigen::Matrix3Xd v = m.X_BM * (m.scale_to_mm.asDiagonal() * part.vertices_mm);
+    const Eigen::Index base = all.vertices_mm.cols();
+    all.vertices_mm.conservativeResize(3, base + v.cols());
+    all.vertices_mm.rightCols(v.cols()) = v;
+    all.triangles.conservativeResize(3, all.triangles.cols() + part.triangles.cols());
+    all.triangles.rightCols(part.triangles.cols()) = part.triangles.array() + static_cast<int>(base);
+  }
   return all;
 }
 
@@ -135,6 +160,43 @@ void RBFMuscle::initialize(const InitContext& context) {
   settings.volume.tolerance = volume_tolerance.get();
   deformer_ = std::make_unique<MuscleDeformer>(field, attachments, settings);
   initializeFibres(skeleton, field, attachments, settings.blend_length_mm);
+  initializeContacts(skeleton);
+  previous_motion_M_ = bone_motion_M_;
+}
+
+void RBFMuscle::initializeContacts(const Skeleton& skeleton) {
+  contact_resolver_.reset();
+  contact_field_.reset();
+  contact_bodies_.clear();
+  if (contact_probes.get() == 0) return;
+  const Eigen::Translation3d to_M(-frame_offset_mm_);
+  std::vector<ContactBone> bones;
+  for (int body = 0; body < static_cast<int>(skeleton.getBodyNames().size()); ++body) {
+    TriangleMesh mesh_B = loadBoneMesh_B(skeleton, body);
+    if (mesh_B.countTriangles() == 0) continue;
+    contact_bodies_.push_back(body);
+    bones.push_back(ContactBone{skeleton.getBodyNames()[static_cast<size_t>(body)], std::move(mesh_B),
+                                Eigen::Isometry3d(to_M * skeleton.getBodyTransform(body))});
+  }
+  if (bones.empty()) throw FrameworkError("contact_probes > 0 but no body of " + skeleton.getUrdfPath() + " has a mesh");
+  previous_X_MB_.clear();
+  for (const ContactBone& bone : bones) previous_X_MB_.push_back(bone.X_MB_rest);
+  const GaussianField& field = deformer_->getField();
+  rest_probes_M_ = sampleSurfaceProbes(deformer_->extractSurface(surface_cell_mm.get()), contact_probes.get());
+  const Attachments& attachments = deformer_->getAttachments();
+  probe_weights_ = calcBlendWeights(rest_probes_M_, field.getCentres(), attachments, DeformerSettings{}.blend_length_mm);
+  std::vector<bool> free_centres(static_cast<size_t>(field.getNumCentres()));
+  for (int k = 0; k < field.getNumCentres(); ++k) free_centres[static_cast<size_t>(k)] = !attachments.isAttached(k);
+  ContactSettings settings;
+  settings.tolerance_mm = contact_tolerance_mm.get();
+  settings.max_substeps = max_substeps.get();
+  try {
+    contact_resolver_ = std::make_unique<ContactResolver>(std::move(bones), field, rest_probes_M_, std::move(free_centres),
+                                                          settings);
+  } catch (const std::exception& e) {
+    throw FrameworkError(std::string("contacts: ") + e.what());
+  }
+  contact_field_ = std::make_unique<GaussianField>(field);
 }
 
 void RBFMuscle::initializeFibres(const Skeleton& skeleton, const GaussianField& field, const Attachments& attachments,
@@ -191,12 +253,46 @@ void RBFMuscle::update(const FrameState& state) {
   const int bodies[] = {origin_body.getBodyIndex(), insertion_body.getBodyIndex()};
   for (std::size_t b = 0; b < bone_motion_M_.size(); ++b)
     bone_motion_M_[b] = to_M * state.getBodyTransform(bodies[b]) * X_GB_rest_[b].inverse() * from_M;
-  const DeformResult& r = deformer_->update(bone_motion_M_);
+  X_MB_.resize(contact_bodies_.size());
+  for (std::size_t b = 0; b < contact_bodies_.size(); ++b)
+    X_MB_[b] = to_M * state.getBodyTransform(contact_bodies_[b]);
+  result_.collision_ms = contact_resolver_ ? 0.0 : DeformResult::kNaN;
+  result_.max_penetration_mm = result_.max_penetration_before_mm = result_.contacts = DeformResult::kNaN;
+  result_.contact_iterations = 0;
+  int steps = 1;
+  if (contact_resolver_) {
+    const auto t = std::chrono::steady_clock::now();
+    std::vector<DualQuaternion> dq;
+    for (const Eigen::Isometry3d& m : bone_motion_M_) dq.push_back(toDualQuaternion(m));
+    predictPoints(rest_probes_M_, probe_weights_, dq, carried_probes_M_);
+    if (contact_response.get()) steps = contact_resolver_->calcSubsteps(X_MB_, carried_probes_M_);
+    result_.collision_ms += msSince(t);
+  }
+  result_.substeps = steps;
+  double descent_ms = 0.0;
+  for (int s = 1; s <= steps; ++s) {
+    if (s == steps) {
+      step(bone_motion_M_, X_MB_);
+    } else {
+      const double fraction = static_cast<double>(s) / steps;
+      step_motion_M_.resize(bone_motion_M_.size());
+      step_X_MB_.resize(X_MB_.size());
+      for (std::size_t b = 0; b < bone_motion_M_.size(); ++b)
+        step_motion_M_[b] = interpolateScrew(previous_motion_M_[b], bone_motion_M_[b], fraction);
+      for (std::size_t b = 0; b < X_MB_.size(); ++b)
+        step_X_MB_[b] = interpolateScrew(previous_X_MB_[b], X_MB_[b], fraction);
+      step(step_motion_M_, step_X_MB_);
+    }
+    descent_ms += deformer_->getResult().descent_ms;
+  }
+  previous_motion_M_ = bone_motion_M_;
+  previous_X_MB_ = X_MB_;
+  const DeformResult& r = deformer_->getResult();
   result_.volume_mm3 = r.volume_mm3;
   result_.volume_ratio = r.volume_ratio;
   result_.curvature_cost = r.curvature_cost;
   result_.iterations = r.iterations;
-  result_.descent_ms = r.descent_ms;
+  result_.descent_ms = descent_ms;
   if (fibre_tracker_) {
     const FibreFrame& f = fibre_tracker_->update(deformer_->getField(), bone_motion_M_);
     result_.fiber_lengths_mm = f.lengths_mm;
@@ -209,6 +305,27 @@ void RBFMuscle::update(const FrameState& state) {
   }
   if (line_of_action_) result_.line_of_action_length_mm = calcPathLength(*line_of_action_, bone_motion_M_);
   result_.update_ms = msSince(start);
+}
+
+void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::vector<Eigen::Isometry3d>& X_MB) {
+  deformer_->update(motion_M);
+  if (!contact_resolver_) return;
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<DualQuaternion> dq;
+  for (const Eigen::Isometry3d& m : motion_M) dq.push_back(toDualQuaternion(m));
+  predictPoints(rest_probes_M_, probe_weights_, dq, carried_probes_M_);
+  const GaussianField& field = deformer_->getField();
+  contact_field_->setCentrePositions(field.getCentres());
+  contact_field_->setWeights(field.getWeights());
+  contact_field_->setOffset(field.getOffset());
+  const ContactReport& report = contact_resolver_->resolve(X_MB, carried_probes_M_, *contact_field_, contact_response.get());
+  if (report.moved_centres > 0) deformer_->setCurrentCentres(contact_field_->getCentres());
+  const auto maxOrNaN = [](double a, double b) { return std::isnan(a) ? b : std::max(a, b); };
+  result_.max_penetration_mm = maxOrNaN(result_.max_penetration_mm, report.max_penetration_mm);
+  result_.max_penetration_before_mm = maxOrNaN(result_.max_penetration_before_mm, report.max_penetration_before_mm);
+  result_.contacts = maxOrNaN(result_.contacts, report.contacts);
+  result_.contact_iterations += report.iterations;
+  result_.collision_ms += msSince(start);
 }
 
 void RBFMuscle::appendFrameGeometry(std::vector<FrameGeometry>& geometry) const {

@@ -36,6 +36,20 @@
 ///                                         rest, by arc length if a body has no mesh); "" = the
 ///                                         straight line from the mean origin landmark to the mean
 ///                                         insertion landmark (mean attached centres without landmarks)
+///   contact_probes (int, 2000)            points on the surface f = 0 tested against the bones
+///                                         (0: no contact handling at all); bones = every
+///                                         skeleton body with a mesh (collision meshes, else visual)
+///   contact_response (bool, false)        push free centres out of the bones, with sub-steps
+///                                         against tunnelling (false: measure only). Off by
+///                                         default: on the hip scenes the response does not
+///                                         converge for the iliacus against the pelvis proxy (issue 5)
+///   contact_tolerance_mm (double, 0.5)    accepted penetration beyond the rest overlap
+///   max_substeps (int, 8)                 cap on sub-steps per frame of the tunnelling guard
+///   Contacts (core/collision/contact_resolver.h): each probe may stay as deep inside a bone as
+///   it was at rest (documented rest overlap: the pelvis proxy overlaps the iliacus by up to
+///   8 mm), only the excess counts and is resolved; a frame in which a bone point near the muscle
+///   moves more than half the local muscle thickness is split into sub-steps (bone poses
+///   interpolated along their screw motion, the deformer and the contacts run per sub-step).
 ///   socket_origin_body, socket_insertion_body: the bones
 /// Outputs: volume_mm3, volume_ratio, curvature_cost, iterations (descent),
 ///   update_ms, descent_ms, attached_centres;
@@ -43,7 +57,12 @@
 ///   fiber_length_min_mm, fiber_length_max_mm, fiber_length_normalised (mean / rest mean),
 ///   fiber_projections (fibre points pushed back inside this frame; core/fibres/fibre_tracker.h),
 ///   fiber_points_outside (fibre points still with f ≤ 0 after the projection; 0 when all are inside),
-///   line_of_action_length_mm (the path of line_of_action_mm, or the straight line).
+///   line_of_action_length_mm (the path of line_of_action_mm, or the straight line);
+///   max_penetration_mm (largest probe depth inside a bone beyond its rest overlap after the
+///   response, max over sub-steps), max_penetration_before_mm (the same before the response),
+///   contacts (probes found beyond their rest overlap, max over sub-steps), substeps,
+///   contact_iterations (response iterations, summed), collision_ms (probe carrying, queries and
+///   response, all sub-steps; NaN without contact_probes).
 /// Frame geometry (--frames-mesh): NAME (surface) and NAME_fibres (fibre polylines, ground, mm).
 /// The muscle frame M is the ground frame shifted to the rest mesh's box centre.
 #include <Eigen/Geometry>
@@ -56,6 +75,7 @@
 namespace rbfmuscle {
 
 class MuscleDeformer;
+class ContactResolver;
 class FibreTracker;
 class GaussianField;
 class Skeleton;
@@ -94,6 +114,15 @@ class RBFMuscle final : public Component {
   Property<std::string> line_of_action_mm{this, "line_of_action_mm", std::string(),
                                           "'x y z; …' via-point path, origin body first, insertion body last "
                                           "(mm, ground at rest)"};
+  Property<int> contact_probes{this, "contact_probes", 2000,
+                               "probe points on the surface tested against the bones (0 = no contacts)",
+                               PropertyRange{0, 1000000}};
+  Property<bool> contact_response{this, "contact_response", false,
+                                  "push free centres out of the bones (false: measure only)"};
+  Property<double> contact_tolerance_mm{this, "contact_tolerance_mm", 0.5,
+                                        "accepted penetration beyond the rest overlap (mm)", PropertyRange{1e-3, 100.0}};
+  Property<int> max_substeps{this, "max_substeps", 8, "cap on sub-steps per frame (tunnelling guard)",
+                             PropertyRange{1, 1000}};
   BodySocket origin_body{this, "origin_body", "bone of the origin attachment"};
   BodySocket insertion_body{this, "insertion_body", "bone of the insertion attachment"};
   Output volume_mm3{this, "volume_mm3", "mm^3", "muscle volume {f > 0}", [this] { return result_.volume_mm3; }};
@@ -120,6 +149,19 @@ class RBFMuscle final : public Component {
                            [this] { return result_.fiber_projections; }};
   Output fiber_points_outside{this, "fiber_points_outside", "1", "fibre points still outside (f ≤ 0) after projection",
                               [this] { return result_.fiber_points_outside; }};
+  Output max_penetration_mm{this, "max_penetration_mm", "mm",
+                            "deepest probe inside a bone beyond its rest overlap, after the response",
+                            [this] { return result_.max_penetration_mm; }};
+  Output max_penetration_before_mm{this, "max_penetration_before_mm", "mm",
+                                   "deepest probe inside a bone beyond its rest overlap, before the response",
+                                   [this] { return result_.max_penetration_before_mm; }};
+  Output contacts{this, "contacts", "1", "probes inside a bone beyond their rest overlap (before the response)",
+                  [this] { return result_.contacts; }};
+  Output substeps{this, "substeps", "1", "sub-steps of this frame (tunnelling guard)", [this] { return result_.substeps; }};
+  Output contact_iterations{this, "contact_iterations", "1", "contact response iterations this frame",
+                            [this] { return result_.contact_iterations; }};
+  Output collision_ms{this, "collision_ms", "ms", "wall time of the contact handling this frame",
+                      [this] { return result_.collision_ms; }};
   Output line_of_action_length_mm{this, "line_of_action_length_mm", "mm", "via-point (or straight) line-of-action length",
                                   [this] { return result_.line_of_action_length_mm; }};
 
@@ -149,7 +191,19 @@ class RBFMuscle final : public Component {
     double fiber_projections = kNaN;
     double fiber_points_outside = kNaN;
     double line_of_action_length_mm = kNaN;
+    double max_penetration_mm = kNaN;         ///< mm
+    double max_penetration_before_mm = kNaN;  ///< mm
+    double contacts = kNaN;
+    double substeps = kNaN;
+    double contact_iterations = kNaN;
+    double collision_ms = kNaN;
   };
+
+  /// Bones (every body with a mesh), rest probes on the rest surface, their blend weights and
+  /// the resolver (contact_probes > 0).
+  void initializeContacts(const Skeleton& skeleton);
+  /// One (sub-)step: the deformer at `motion_M`, then the contacts at `X_MB` (when enabled).
+  void step(const std::vector<Eigen::Isometry3d>& motion_M, const std::vector<Eigen::Isometry3d>& X_MB);
 
   /// Rest fibres and their tracker (fibres > 0), and the line-of-action path (if given).
   void initializeFibres(const Skeleton& skeleton, const GaussianField& field, const Attachments& attachments,
@@ -162,6 +216,15 @@ class RBFMuscle final : public Component {
   Eigen::Vector3d frame_offset_mm_ = Eigen::Vector3d::Zero();  ///< origin of M in ground
   std::vector<Eigen::Isometry3d> X_GB_rest_;                    ///< origin, insertion bone poses at rest
   std::vector<Eigen::Isometry3d> bone_motion_M_;                ///< per frame, reused
+  std::unique_ptr<ContactResolver> contact_resolver_;  ///< null without contact_probes
+  std::unique_ptr<GaussianField> contact_field_;       ///< copy of the deformer's field the resolver moves
+  std::vector<int> contact_bodies_;                    ///< skeleton body of each contact bone
+  Eigen::Matrix3Xd rest_probes_M_;                     ///< probes at rest (M, mm)
+  Eigen::MatrixXd probe_weights_;                      ///< blend weights of the rest probes (2×P)
+  Eigen::Matrix3Xd carried_probes_M_;                  ///< scratch: probes carried by the prediction
+  std::vector<Eigen::Isometry3d> previous_motion_M_;   ///< bone motions of the previous frame
+  std::vector<Eigen::Isometry3d> previous_X_MB_;       ///< contact bone poses of the previous frame
+  std::vector<Eigen::Isometry3d> step_motion_M_, step_X_MB_, X_MB_;  ///< scratch per frame
 };
 
 }  // namespace rbfmuscle

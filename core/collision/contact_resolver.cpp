@@ -19,8 +19,10 @@ constexpr double kRestQueryRadiusMm = 1e6;
 constexpr double kLowerBoundReachMm = 10.0;  ///< extra query radius so far probes get a useful lower bound
 /// A moved centre k marks the probes within √(ln(1e3)/α_k) of it (where φ_k ≥ 1e-3) for re-projection.
 const double kInfluenceLogRatio = std::log(1e3);
-/// Newton steps of a re-projection after a response, in multiples of newton_steps.
-constexpr int kDirtyStepFactor = 4;
+/// Centres with φ below this at a probe are left out of its constraint row (they barely act there).
+constexpr double kDerivativeCutoff = 1e-3;
+/// Smallest |cos(∇f, n)| taken as a push along the bone normal n (else inward along ∇f).
+constexpr double kMinCosine = 0.3;
 
 void requirePositive(double value, const char* name) {
   if (!(value > 0.0) || !std::isfinite(value))
@@ -91,11 +93,13 @@ ContactResolver::ContactResolver(std::vector<ContactBone> bones, const GaussianF
     }
     ref_point_B_[static_cast<size_t>(b)] = bones_[static_cast<size_t>(b)].X_MB_rest.inverse() * probes_M_;
   }
-  allowance_mm_ = (-rest_distance_mm_).cwiseMax(0.0);
+  allowance_mm_ = rest_distance_mm_.unaryExpr(
+      [](double s) { return s < 0.0 ? std::numeric_limits<double>::infinity() : 0.0; });
   ref_distance_mm_ = rest_distance_mm_;
   excess_mm_ = Eigen::VectorXd::Constant(P, -std::numeric_limits<double>::infinity());
   moved_.assign(free_centres_.size(), false);
-  dirty_.assign(static_cast<size_t>(P), false);
+  slack_mm_ = Eigen::VectorXd::Zero(P);
+  exit_normal_M_ = Eigen::Matrix3Xd::Zero(3, P);
 }
 
 int ContactResolver::calcSubsteps(const std::vector<Eigen::Isometry3d>& X_MB, const Eigen::Matrix3Xd& carried_M) const {
@@ -114,7 +118,8 @@ int ContactResolver::calcSubsteps(const std::vector<Eigen::Isometry3d>& X_MB, co
       const double delta = (X_BM_now * x - p_prev_B).norm();
       const double bound_prev = ref_distance_mm_(i, b) - (p_prev_B - ref.col(i)).norm();
       if (bound_prev + allowance_mm_(i, b) < delta)
-        needed = std::max(needed, delta / (settings_.safe_fraction * thickness_mm_(i)));
+        needed = std::max(needed, delta / (settings_.safe_fraction *
+                                           std::min(thickness_mm_(i), bones_[static_cast<size_t>(b)].thickness_mm)));
     }
   }
   return static_cast<int>(std::min<double>(settings_.max_substeps, std::ceil(needed - 1e-12)));
@@ -175,17 +180,23 @@ double ContactResolver::measure(const GaussianField& field) {
            (X_BM[static_cast<size_t>(b)] * probes_M_.col(i) - ref_point_B_[static_cast<size_t>(b)].col(i)).norm();
   };
   const auto threshold = [&](int i, int b) { return -allowance_mm_(i, b) + settings_.query_band_mm; };
+  project_index_.clear();
   for (int i = 0; i < P; ++i) {
-    bool project = dirty_[static_cast<size_t>(i)];
-    for (int b = 0; b < B && !project; ++b) project = bound(i, b) - travel < threshold(i, b);
-    if (!project) continue;
+    bool project = false;
+    for (int b = 0; b < B && !project; ++b) project = bound(i, b) - travel - slack_mm_(i) < threshold(i, b);
+    if (project) project_index_.push_back(i);
+  }
+  const int count = static_cast<int>(project_index_.size());
+#pragma omp parallel for schedule(dynamic, 16)
+  for (int k = 0; k < count; ++k) {  // independent per probe: results do not depend on the threads
+    const int i = project_index_[static_cast<size_t>(k)];
     Eigen::Vector3d p = probes_M_.col(i);
-    const int steps = dirty_[static_cast<size_t>(i)] ? kDirtyStepFactor * settings_.newton_steps : settings_.newton_steps;
+    const int steps = settings_.newton_steps + static_cast<int>(std::ceil(slack_mm_(i) / settings_.newton_step_cap_mm));
     projectOntoSurface(field, p, steps, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm);
     probes_M_.col(i) = p;
-    dirty_[static_cast<size_t>(i)] = false;
-    ++report_.projections;
+    slack_mm_(i) = 0.0;
   }
+  report_.projections += count;
   double worst = 0.0;
   for (int b = 0; b < B; ++b) {
     query_index_.clear();
@@ -204,16 +215,20 @@ double ContactResolver::measure(const GaussianField& field) {
       ref_distance_mm_(i, b) = s;
       ref_point_B_[static_cast<size_t>(b)].col(i) = X_BM[static_cast<size_t>(b)] * probes_M_.col(i);
       const double e = -s - allowance_mm_(i, b);
-      excess_mm_(i) = std::max(excess_mm_(i), e);
+      if (e > excess_mm_(i)) {
+        excess_mm_(i) = e;
+        exit_normal_M_.col(i) = q.bone < 0 ? Eigen::Vector3d::Zero() : q.normal_W;
+      }
       worst = std::max(worst, e);
     }
   }
   return worst;
 }
 
-void ContactResolver::markDirty(const GaussianField& field, const std::vector<int>& centres,
-                                const Eigen::Matrix3Xd& old_centres) {
-  // Probe i is dirty when it lies within the influence radius of a moved centre (old or new place).
+void ContactResolver::addSlack(const GaussianField& field, const std::vector<int>& centres,
+                               const Eigen::Matrix3Xd& old_centres, double longest_mm) {
+  // Probes within the influence radius of a moved centre (old or new place) may now be up to
+  // the longest centre move away from the surface.
   Eigen::AlignedBox3d box;
   std::vector<double> reach(centres.size());
   for (size_t c = 0; c < centres.size(); ++c) {
@@ -224,10 +239,10 @@ void ContactResolver::markDirty(const GaussianField& field, const std::vector<in
     box.extend(old_centres.col(k) + Eigen::Vector3d::Constant(reach[c]));
   }
   for (int i = 0; i < countProbes(); ++i) {
-    if (dirty_[static_cast<size_t>(i)] || !box.contains(probes_M_.col(i))) continue;
+    if (!box.contains(probes_M_.col(i))) continue;
     for (size_t c = 0; c < centres.size(); ++c) {
       if ((probes_M_.col(i) - old_centres.col(centres[c])).squaredNorm() <= reach[c] * reach[c]) {
-        dirty_[static_cast<size_t>(i)] = true;
+        slack_mm_(i) += longest_mm;
         break;
       }
     }
@@ -258,7 +273,7 @@ bool ContactResolver::respondOnce(GaussianField& field) {
       const Eigen::Vector3d d = p - xi.col(k);
       f += w;
       grad -= 2.0 * alpha(k) * w * d;
-      if (!free_centres_[static_cast<size_t>(k)]) continue;
+      if (!free_centres_[static_cast<size_t>(k)] || active.phi[static_cast<size_t>(a)] < kDerivativeCutoff) continue;
       if (local[static_cast<size_t>(k)] < 0) {
         local[static_cast<size_t>(k)] = static_cast<int>(centres.size());
         centres.push_back(k);
@@ -268,7 +283,13 @@ bool ContactResolver::respondOnce(GaussianField& field) {
       any_free = true;
     }
     if (!any_free) continue;
-    rhs.push_back(-(e + settings_.margin_mm) * grad.norm() - f);
+    // The surface point should move by (e + margin) along the bone's outward normal n: to first
+    // order f_new(p + δn) = 0, i.e. J Δξ = −f − δ ∇f·n. Near-tangent normals (|cos| < kMinCosine,
+    // a bone edge through the side of the muscle) push the surface inward along ∇f instead.
+    const double g = grad.norm();
+    double cosine = g > 0.0 ? grad.dot(exit_normal_M_.col(i)) / g : 1.0;
+    if (std::abs(cosine) < kMinCosine) cosine = kMinCosine;
+    rhs.push_back(-f - (e + settings_.margin_mm) * g * cosine);
   }
   const int m = static_cast<int>(rhs.size()), n = 3 * static_cast<int>(centres.size());
   if (m == 0 || n == 0) return false;
@@ -278,12 +299,12 @@ bool ContactResolver::respondOnce(GaussianField& field) {
   Eigen::VectorXd step;
   if (m <= n) {
     Eigen::MatrixXd G = Eigen::MatrixXd(A * A.transpose());
-    const double mu = 1e-9 * G.trace() / m + std::numeric_limits<double>::min();
+    const double mu = settings_.damping * G.trace() / m + std::numeric_limits<double>::min();
     G.diagonal().array() += mu;
     step = A.transpose() * G.ldlt().solve(r);
   } else {
     Eigen::MatrixXd G = Eigen::MatrixXd(A.transpose() * A);
-    const double mu = 1e-9 * G.trace() / n + std::numeric_limits<double>::min();
+    const double mu = settings_.damping * G.trace() / n + std::numeric_limits<double>::min();
     G.diagonal().array() += mu;
     step = G.ldlt().solve(A.transpose() * r);
   }
@@ -298,7 +319,7 @@ bool ContactResolver::respondOnce(GaussianField& field) {
     moved_[static_cast<size_t>(centres[c])] = true;
   }
   field.setCentrePositions(moved_centres);
-  markDirty(field, centres, old_centres);
+  addSlack(field, centres, old_centres, std::min(longest, settings_.max_centre_step_mm));
   return true;
 }
 

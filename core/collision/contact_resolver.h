@@ -23,6 +23,9 @@ struct ContactBone {
   std::string name;                                               ///< bone name (messages)
   TriangleMesh mesh_B;                                            ///< surface in B (mm)
   Eigen::Isometry3d X_MB_rest = Eigen::Isometry3d::Identity();    ///< B in M at rest (mm)
+  /// Thinnest wall of the bone (mm) for the tunnelling guard; +∞ when every wall is thicker
+  /// than the muscle (then only the muscle's thickness limits a sub-step).
+  double thickness_mm = std::numeric_limits<double>::infinity();
 };
 
 /// Settings of a ContactResolver (lengths in mm).
@@ -40,8 +43,12 @@ struct ContactSettings {
   double projection_tolerance_mm = 0.01;  ///< |f|/‖∇f‖ at which a projection stops (mm)
   /// Probes whose certified lower bound on s − (−a) is above this are not queried (mm).
   double query_band_mm = 1.0;
+  /// Damping κ of the response: μ = κ·tr(G)/size added to the diagonal of the Gram matrix G
+  /// (AAᵀ or AᵀA), so near-parallel rows with different depths do not ask for huge moves
+  /// (iliacus at 10° steps: 1e-2 and below oscillate, 0.1–1 converge alike).
+  double damping = 0.1;
   /// Largest move of one centre in one response iteration (mm); the step is scaled down to it.
-  double max_centre_step_mm = 2.0;
+  double max_centre_step_mm = 1.0;
   /// Tunnelling guard: a frame is split so that no bone point near the muscle moves more
   /// than this fraction of the local muscle thickness per sub-step.
   double safe_fraction = 0.5;
@@ -83,12 +90,14 @@ struct ContactReport {
 /// of prediction, as the deformer's warm start) and is pulled onto the current f = 0 by
 /// projectOntoSurface (≤ newton_steps · newton_step_cap_mm of travel).
 ///
-/// **Rest overlap** (the pelvis proxy overlaps the iliacus by up to 8 mm): each probe i gets
-/// an allowance a_ib = max(0, −s_ib(rest)) against bone b, its rest penetration depth; only
-/// the excess e_ib = −s_ib − a_ib counts as penetration. A probe outside bone b at rest
-/// (a = 0) is held to the plain rule s ≥ −tolerance; a probe that started 8 mm inside the
-/// pelvis may stay up to 8 mm inside but no deeper. Chosen over excluding such probes so an
-/// overlapping region cannot sink further into the bone unnoticed.
+/// **Rest overlap** (the pelvis proxy overlaps the iliacus by up to 8 mm, the femoral head
+/// by up to 7 mm): a probe inside bone b at rest (s_ib(rest) < 0) is excluded for that bone
+/// (allowance a_ib = +∞); every other pair has a_ib = 0 and must keep s_ib ≥ −tolerance. The
+/// excess depth is e_ib = −s_ib − a_ib. Chosen over the allowance a_ib = −s_ib(rest) (only
+/// depth beyond the rest depth counts): measured on the hip, overlapping regions are often
+/// the whole thickness of the muscle (both faces inside the proxy), where "push the surface
+/// back to its rest depth" thins the muscle instead of moving it and never converges.
+/// Excluded pairs are never queried; their number is in countExcludedPairs().
 ///
 /// **Culling.** One BoneSet per bone gives per-bone signed distances. Each (i, b) keeps the
 /// reference s_ref and probe position p_ref (bone frame) of its last exact query; as s is
@@ -97,21 +106,25 @@ struct ContactReport {
 /// query is not projected either. Queries use the radius query_band_mm + travel + 10 mm;
 /// a probe with no bone within it records the radius as its (valid) lower bound.
 ///
-/// **Response** (respond = true). While some e_i = max_b e_ib > tolerance, for every probe
-/// with e_i > 0 the linearised constraint
-///   f(p_i) + Σ_{k free} ∂f(p_i)/∂ξ_k · Δξ_k = −(e_i + margin)·‖∇f(p_i)‖
-/// asks the surface to move inward at p_i by its excess depth plus the margin (the push
-/// direction is the field's, so a thin bone does not pull the surface two ways). The
-/// minimum-norm Δξ over the free centres active at the probes (attached centres never
-/// move) is Aᵀ(AAᵀ + μI)⁻¹r when the rows are fewer than the unknowns, otherwise the
-/// regularised least squares (AᵀA + μI)⁻¹Aᵀr, μ = 1e-9·tr/n; it is scaled so no centre moves
-/// more than max_centre_step_mm; then probes are re-projected and re-queried. All bones are
-/// resolved together (a probe's excess is its worst bone). Stops: ContactStop.
+/// **Response** (respond = true). While some e_i = max_b e_ib > tolerance, every probe with
+/// e_i > 0 should move by δ_i = e_i + margin along n_i, the outward normal of its deepest bone
+/// (out of the bone by the shortest way): to first order f_new(p_i + δ_i n_i) = 0, i.e.
+///   Σ_{k free} ∂f(p_i)/∂ξ_k · Δξ_k = −f(p_i) − δ_i ‖∇f(p_i)‖ c_i,  c_i = cos(∇f, n_i),
+/// so a muscle face lying on the bone (c > 0) retracts and a muscle tip inside the bone (c < 0)
+/// moves out; where |c_i| < 0.3 (the bone crosses the side of the muscle) c_i = 0.3 is used, a
+/// push inward along ∇f. This is why the tunnelling guard must keep steps below half the bone's
+/// thickness too (ContactBone::thickness_mm): deeper than that, the nearest way out of a thin
+/// bone is through its far face. The damped minimum-norm Δξ over the free centres with
+/// φ ≥ 1e-3 at the probes (attached centres never move) is Aᵀ(AAᵀ + μI)⁻¹r when the rows are
+/// fewer than the unknowns, otherwise (AᵀA + μI)⁻¹Aᵀr, μ = damping·tr/size; it is scaled so
+/// no centre moves more than max_centre_step_mm; then probes are re-projected and re-queried.
+/// All bones are resolved together (a probe's excess is its worst bone). Stops: ContactStop.
 ///
 /// **Tunnelling guard** (calcSubsteps): for each probe and bone that can touch this frame
 /// (certified distance at the previous frame, plus allowance, below the relative move δ_ib of
 /// the probe in the bone frame), the frame needs ⌈δ_ib / (safe_fraction · t_i)⌉ sub-steps,
-/// t_i the probe's rest thickness along the inward normal (calcLocalThickness); the caller
+/// t_i the smaller of the probe's rest thickness along the inward normal (calcLocalThickness)
+/// and the bone's thickness_mm; the caller
 /// interpolates the poses (interpolateScrew) and calls resolve per sub-step.
 ///
 /// Limits: penetration is measured at the probes (a sharp bone edge between probes is not
@@ -149,8 +162,10 @@ class ContactResolver {
   const Eigen::Matrix3Xd& getProbes() const { return probes_M_; }
   /// Rest signed distances s_ib(rest) (P×B, mm; capped at the rest query radius 1e6 mm).
   const Eigen::MatrixXd& getRestSignedDistances() const { return rest_distance_mm_; }
-  /// Allowances a_ib = max(0, −s_ib(rest)) (P×B, mm).
+  /// Allowances a_ib (P×B, mm): +∞ for a probe inside the bone at rest (excluded), else 0.
   const Eigen::MatrixXd& getAllowances() const { return allowance_mm_; }
+  /// Number of (probe, bone) pairs excluded as rest overlap.
+  int countExcludedPairs() const { return static_cast<int>((rest_distance_mm_.array() < 0.0).count()); }
   /// Rest thickness t_i at each probe (P, mm).
   const Eigen::VectorXd& getThickness() const { return thickness_mm_; }
   /// The last report.
@@ -164,9 +179,10 @@ class ContactResolver {
   double measure(const GaussianField& field);
   /// One minimum-norm response step; @return false when no free centre acts on the rows.
   bool respondOnce(GaussianField& field);
-  /// Marks for re-projection the probes within the influence radius of the moved `centres`
-  /// (global indices; old positions in `old_centres`).
-  void markDirty(const GaussianField& field, const std::vector<int>& centres, const Eigen::Matrix3Xd& old_centres);
+  /// Adds `longest_mm` (the longest centre move) to the slack of the probes within the
+  /// influence radius of the moved `centres` (global indices; old positions in `old_centres`).
+  void addSlack(const GaussianField& field, const std::vector<int>& centres, const Eigen::Matrix3Xd& old_centres,
+                double longest_mm);
 
   std::vector<ContactBone> bones_;
   std::vector<BoneSet> bone_sets_;  ///< one bone each: per-bone signed distances
@@ -182,9 +198,11 @@ class ContactResolver {
   Eigen::VectorXd thickness_mm_;
   Eigen::VectorXd excess_mm_;          ///< e_i of the last measurement (−∞ when not queried)
   std::vector<bool> moved_;            ///< per centre, moved in this call
-  std::vector<bool> dirty_;            ///< per probe, to re-project (a centre near it moved)
+  Eigen::Matrix3Xd exit_normal_M_;     ///< per probe, outward normal of its deepest bone (M)
+  Eigen::VectorXd slack_mm_;           ///< per probe, how far the surface may have moved from it since its projection
   // scratch
   std::vector<int> query_index_;
+  std::vector<int> project_index_;
   Eigen::Matrix3Xd query_points_;
   std::vector<ContactQueryResult> query_out_;
   std::vector<bool> relevant_;

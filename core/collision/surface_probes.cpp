@@ -63,11 +63,28 @@ Eigen::Matrix3Xd sampleSurfaceProbes(const TriangleMesh& surface, int count) {
   return out;
 }
 
+double calcValueAndGradient(const GaussianField& field, const Eigen::Vector3d& x_mm, Eigen::Vector3d& gradient) {
+  thread_local ActiveCentres active;
+  field.findActiveCentres(x_mm, active);
+  const Eigen::Matrix3Xd& xi = field.getCentres();
+  const Eigen::VectorXd& lambda = field.getWeights();
+  const Eigen::VectorXd& alpha = field.getShapes();
+  double f = field.getOffset();
+  gradient.setZero();
+  for (int a = 0; a < active.size(); ++a) {
+    const int k = active.indices[static_cast<size_t>(a)];
+    const double w = lambda(k) * active.phi[static_cast<size_t>(a)];
+    f += w;
+    gradient -= (2.0 * alpha(k) * w) * (x_mm - xi.col(k));
+  }
+  return f;
+}
+
 bool projectOntoSurface(const GaussianField& field, Eigen::Vector3d& x_mm, int max_steps, double step_cap_mm,
                         double tolerance_mm) {
   for (int step = 0; step <= max_steps; ++step) {
-    const double f = field.calcValue(x_mm);
-    const Eigen::Vector3d g = field.calcGradient(x_mm);
+    Eigen::Vector3d g;
+    const double f = calcValueAndGradient(field, x_mm, g);
     const double g2 = g.squaredNorm();
     if (!(g2 > 1e-24)) return false;
     const double distance = std::abs(f) / std::sqrt(g2);

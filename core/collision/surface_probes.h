@@ -18,6 +18,9 @@ namespace rbfmuscle {
 /// @throws std::invalid_argument if count < 1 or the mesh has no vertex.
 Eigen::Matrix3Xd sampleSurfaceProbes(const TriangleMesh& surface, int count);
 
+/// f(x) and ∇f(x) (GaussianField formulas) from one pass over the centres active at x.
+double calcValueAndGradient(const GaussianField& field, const Eigen::Vector3d& x_mm, Eigen::Vector3d& gradient);
+
 /// Newton projection of one point onto {f = 0} along the gradient:
 /// x ← x − f(x) ∇f(x)/‖∇f(x)‖², each step shortened to at most `step_cap_mm`, at most
 /// `max_steps` steps, stopping once |f|/‖∇f‖ ≤ `tolerance_mm` (first-order distance to the
