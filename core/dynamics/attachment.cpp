@@ -127,10 +127,9 @@ Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen:
       const double dist = (points_mm.col(j) - rest_centres_mm.col(k)).norm();
       if (dist < d(b)) d(b) = dist;
     }
-    const double dmin = d.minCoeff();
     double sum = 0.0;
     for (int b = 0; b < B; ++b) {
-      const double w = std::isfinite(d(b)) ? std::exp(-(d(b) - dmin) / length_mm) : 0.0;
+      const double w = std::isfinite(d(b)) ? 1.0 / (d(b) + length_mm) : 0.0;
       weights(b, j) = w;
       sum += w;
     }

@@ -51,9 +51,7 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
   descent_ = std::make_unique<CurvatureDescent>(*cost_, free_mask, settings.descent);
   const double h = quadrature_.cell_mm;
   volume_keeper_ = std::make_unique<VolumeKeeper>(quadrature_.points_mm, h * h * h, rest_field_, settings.volume);
-  if (settings.refit.enabled) {
-    refit_ = std::make_unique<WeightRefit>(rest_field_, attachments, settings.refit, settings.blend_length_mm);
-  }
+  topology_guard_ = std::make_unique<TopologyGuard>(free_mask, settings.topology);
   transforms_.assign(static_cast<size_t>(attachments.num_bones), DualQuaternion{});
   predicted_centres_mm_ = rest_centres;
   current_points_mm_ = quadrature_.points_mm;
@@ -96,6 +94,7 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     field_.setCentrePositions(start_centres_mm_);
   } else {
     field_.setCentrePositions(predicted_centres_mm_);
+    field_.setWeights(rest_field_.getWeights());  // the guard may have lowered some
     field_.setOffset(rest_field_.getOffset());
   }
   previous_predicted_mm_ = predicted_centres_mm_;
@@ -121,24 +120,33 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   }
   result_.predict_ms = msSince(start);
 
-  result_.refit_ms = 0.0;
-  if (refit_) {
-    start = std::chrono::steady_clock::now();
-    field_.setOffset(rest_field_.getOffset());
-    refit_report_ = refit_->run(field_, transforms_);
-    result_.refit_ms = msSince(start);
-    result_.refit_iterations = refit_report_.solve.iterations;
-    result_.refit_reached_tolerance = refit_report_.solve.reached_tolerance;
-    result_.refit_residual = refit_report_.rms_residual_after;
-  }
-
   start = std::chrono::steady_clock::now();
   descent_report_ = descent_->run(field_, predicted_centres_mm_);
   result_.descent_ms = msSince(start);
 
   start = std::chrono::steady_clock::now();
-  const VolumeReport volume = volume_keeper_->correct(field_, current_points_mm_, jacobians_);
+  VolumeReport volume = volume_keeper_->correct(field_, current_points_mm_, jacobians_);
   result_.volume_ms = msSince(start);
+
+  // Islands, then the volume again (lowering them loses volume, and raising b to
+  // restore it can lift a lowered island back above zero): repeated while the guard
+  // changes something, at most kGuardPasses times.
+  constexpr int kGuardPasses = 3;
+  result_.topology_ms = 0.0;
+  result_.islands_found = 0;
+  for (int pass = 0; pass < kGuardPasses; ++pass) {
+    start = std::chrono::steady_clock::now();
+    const TopologyReport topology =
+        topology_guard_->run(field_, calcCurrentBox(), current_points_mm_, quadrature_.cell_mm);
+    result_.topology_ms += msSince(start);
+    result_.islands_found += topology.islands_found + topology.cavities_found;
+    result_.islands_left = topology.defects_left;
+    result_.topology_stop = topology.stop_reason;
+    if (topology.weights_changed == 0) break;
+    start = std::chrono::steady_clock::now();
+    volume = volume_keeper_->correct(field_, current_points_mm_, jacobians_);
+    result_.volume_ms += msSince(start);
+  }
 
   result_.volume_mm3 = volume.volume_mm3;
   result_.volume_ratio = volume.volume_ratio;

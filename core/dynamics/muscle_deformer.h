@@ -7,7 +7,7 @@
 #include "dynamics/motion_prediction.h"
 #include "dynamics/quadrature.h"
 #include "dynamics/volume_keeper.h"
-#include "dynamics/weight_refit.h"
+#include "dynamics/topology_guard.h"
 #include "geometry/triangle_mesh.h"
 #include "rbf/curvature_cost.h"
 #include "rbf/gaussian_field.h"
@@ -27,8 +27,8 @@ struct DeformerSettings {
   QuadratureSettings quadrature;  ///< quadrature of the cost and the volume
   DescentSettings descent;        ///< descent of the free centres
   VolumeSettings volume;          ///< volume measure and correction
-  RefitSettings refit;            ///< refit of λ to the carried rest field (weight_refit.h)
-  double blend_length_mm = 20.0;  ///< ℓ of the blend weights (attachment.h), > 0
+  TopologySettings topology;      ///< island guard (topology_guard.h)
+  double blend_length_mm = 1.0;   ///< softening length ℓ of the blend weights (attachment.h, mm), > 0
   /// Step (mm) of the central differences giving the Jacobian det ∂P/∂x of the
   /// prediction at each volume point; ≤ 0 means "h/2".
   double jacobian_step_mm = 0.0;
@@ -53,13 +53,13 @@ struct DeformResult {
   int iterations = 0;             ///< descent iterations
   DescentStop stop_reason = DescentStop::kIterationCap;  ///< why the descent stopped
   VolumeStop volume_stop = VolumeStop::kWithinTolerance;  ///< why the volume step stopped
-  int refit_iterations = 0;       ///< CG iterations of the weight refit (0 when disabled)
-  bool refit_reached_tolerance = true;  ///< false: the refit stopped at its iteration cap
-  double refit_residual = kNaN;   ///< rms of f(z_j) − f₀(y_j) after the refit (field unit; NaN when disabled)
+  int islands_found = 0;          ///< islands and cavities the guard removed this frame (summed over its passes)
+  int islands_left = 0;           ///< islands and cavities at the guard's last look (0 unless it stopped early)
+  TopologyStop topology_stop = TopologyStop::kDisabled;  ///< why the guard stopped
   double predict_ms = kNaN;       ///< wall time of the prediction (ms)
-  double refit_ms = 0.0;          ///< wall time of the weight refit (ms)
   double descent_ms = kNaN;       ///< wall time of the descent (ms)
-  double volume_ms = kNaN;        ///< wall time of the volume step (ms)
+  double volume_ms = kNaN;        ///< wall time of the volume step(s) (ms)
+  double topology_ms = 0.0;       ///< wall time of the island guard (ms)
 };
 
 /// Deforms one muscle's Gaussian field with its bones.
@@ -69,21 +69,16 @@ struct DeformResult {
 ///     quadrature points and volume points ← dual-quaternion blend of the T_b with
 ///     their rest blend weights; the quadrature points keep their rest κ₀ (mean
 ///     curvature is invariant under rigid motion);
-///  2. refit (weight_refit.h, design choice for large flexion): b ← b_rest and, with the
-///     centres fixed, λ refitted so f(P(y_j)) ≈ f₀(y_j) at rest samples y_j carried by the
-///     same prediction, i.e. the muscle's implicit function moves with the bones
-///     (f = f₀ ∘ P⁻¹) and the weights take up the stretch of the blend, so centres pulled
-///     apart do not leave gaps and the surface stays one piece;
-///  3. descent (curvature_descent.h) of the free centres from there, anchored at the
-///     prediction (it smooths the residual of the refit);
-///  4. volume (volume_keeper.h): b solved so the volume equals the rest volume (a small
-///     change now: the carried field already has the volume Σ h³ J H(f₀)).
+///  2. descent (curvature_descent.h) of the free centres, anchored at the prediction;
+///  3. volume (volume_keeper.h): b solved so the volume equals the rest volume;
+///  4. islands (topology_guard.h): pieces that came apart from the body are lowered
+///     below zero through the weights of free centres, then step 3 runs again, and
+///     both repeat while the guard changes something (at most 3 passes).
 /// With warm_start (default) a frame starts from the previous frame's result carried
 /// by the change of prediction, so the result depends on the sequence of transforms
 /// (identical sequences give bitwise identical fields); without it each frame starts
 /// from the prediction and depends on the given transforms only.
-/// The refit builds its design matrix each frame (allocates); the other steps do not
-/// allocate in steady state apart from the field's own scratch.
+/// The steps do not allocate in steady state apart from the field's and the guard's scratch.
 class MuscleDeformer {
  public:
   /// @param rest_field the fitted field in M at rest (copied)
@@ -121,8 +116,6 @@ class MuscleDeformer {
   const Eigen::VectorXd& getJacobians() const { return jacobians_; }
   /// V_rest (mm³).
   double getRestVolume() const { return volume_keeper_->getRestVolume(); }
-  /// The last refit report (default-constructed when the refit is disabled or before an update).
-  const WeightRefitReport& getRefitReport() const { return refit_report_; }
   /// The last descent report.
   const DescentReport& getDescentReport() const { return descent_report_; }
 
@@ -147,7 +140,7 @@ class MuscleDeformer {
   std::unique_ptr<CurvatureCost> cost_;
   std::unique_ptr<CurvatureDescent> descent_;
   std::unique_ptr<VolumeKeeper> volume_keeper_;
-  std::unique_ptr<WeightRefit> refit_;  ///< null when settings.refit.enabled is false
+  std::unique_ptr<TopologyGuard> topology_guard_;
   std::vector<DualQuaternion> transforms_;
   Eigen::Matrix3Xd predicted_centres_mm_;
   Eigen::Matrix3Xd previous_predicted_mm_;  ///< prediction of the previous frame (warm start)
@@ -161,7 +154,6 @@ class MuscleDeformer {
   Eigen::VectorXd jacobians_;
   DeformResult result_;
   DescentReport descent_report_;
-  WeightRefitReport refit_report_;
 };
 
 }  // namespace rbfmuscle

@@ -82,7 +82,7 @@ TEST(GluteusDynamics, LandmarksAttachBothEnds) {
 
 // Issue 4 / dissertation 8.3.1: every free centre moved randomly by 5 % of the box
 // diagonal, attachments held; the deformer's full per-frame pipeline at identity
-// motion (refit of λ to the rest field, descent, volume) brings the mean surface
+// motion (descent, volume, island guard) brings the mean surface
 // distance to the unperturbed surface to ≤ 0.5 % of the diagonal.
 TEST(GluteusDynamics, DISABLED_RestoresRandomPerturbation_FailsAt1_11PercentOfDiagonal_Issue4Open) {
   const RbfSurface& s = gluteus();
@@ -100,8 +100,7 @@ TEST(GluteusDynamics, DISABLED_RestoresRandomPerturbation_FailsAt1_11PercentOfDi
   RecordProperty("perturbed_distance_mm", std::to_string(perturbed));
   RecordProperty("restored_distance_mm", std::to_string(distance));
   std::cout << "diagonal " << diagonal << " mm, perturbed " << perturbed << " mm, restored " << distance
-            << " mm (refit residual " << r.refit_residual << " after " << r.refit_iterations << " CG iterations, "
-            << r.iterations << " descent iterations, " << toString(r.stop_reason) << ", volume ratio "
+            << " mm (" << r.iterations << " descent iterations, " << toString(r.stop_reason) << ", volume ratio "
             << r.volume_ratio << ")\n";
   EXPECT_GT(perturbed, 0.005 * diagonal);  // the perturbation is visible
   EXPECT_LE(distance, 0.005 * diagonal);
@@ -123,10 +122,10 @@ void runFlexion(int step_deg) {
     const DeformResult& r = d.update(motion);
     const int components = checkMesh(d.extractSurface(2.0)).components;
     if (deg % 10 == 0) {
-      std::cout << deg << "°: components " << components << ", volume ratio " << r.volume_ratio << ", refit residual "
-                << r.refit_residual << " (" << r.refit_iterations << " CG), cost " << r.curvature_cost
+      std::cout << deg << "°: components " << components << ", volume ratio " << r.volume_ratio << ", islands "
+                << r.islands_found << " (" << toString(r.topology_stop) << "), cost " << r.curvature_cost
                 << ", iterations " << r.iterations << " (" << toString(r.stop_reason) << "), predict " << r.predict_ms
-                << " ms, refit " << r.refit_ms << " ms, descent " << r.descent_ms << " ms, volume " << r.volume_ms
+                << " ms, descent " << r.descent_ms << " ms, volume " << r.volume_ms << " ms, guard " << r.topology_ms
                 << " ms\n";
     }
     ASSERT_TRUE(std::isfinite(r.volume_mm3) && std::isfinite(r.curvature_cost)) << deg;

@@ -4,6 +4,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 namespace rbfmuscle {
 namespace {
 
@@ -52,17 +54,26 @@ TEST(Attachment, ProximityUsesSupportRadius) {
   }
 }
 
-TEST(Attachment, BlendWeightsSumToOneAndFavourTheNearBone) {
+TEST(Attachment, BlendWeightsAreNormalisedInverseDistances) {
   const GaussianField field = test::makeRodField();
   const Attachments a = test::makeRodAttachments(field);
   Eigen::Matrix3Xd p(3, 3);
   p << -25, 0, 25, 0, 0, 0, 0, 0, 0;
-  const Eigen::MatrixXd w = calcBlendWeights(p, field.getCentres(), a, 10.0);
+  const double length_mm = 2.0;
+  const Eigen::MatrixXd w = calcBlendWeights(p, field.getCentres(), a, length_mm);
   ASSERT_EQ(w.rows(), 2);
-  for (int j = 0; j < 3; ++j) EXPECT_NEAR(w.col(j).sum(), 1.0, 1e-15);
-  EXPECT_GT(w(0, 0), 0.99);
-  EXPECT_NEAR(w(0, 1), 0.5, 1e-12);  // the rod's attachments are mirror-symmetric in x
-  EXPECT_GT(w(1, 2), 0.99);
+  for (int j = 0; j < 3; ++j) {
+    double d[2] = {1e300, 1e300};  // distance to each bone's attached set, by brute force
+    for (int k = 0; k < field.getNumCentres(); ++k) {
+      const int b = a.bone_of_centre[static_cast<size_t>(k)];
+      if (b >= 0) d[b] = std::min(d[b], (p.col(j) - field.getCentres().col(k)).norm());
+    }
+    EXPECT_NEAR(w(1, j), (d[0] + length_mm) / (d[0] + d[1] + 2.0 * length_mm), 1e-14) << "point " << j;
+    EXPECT_NEAR(w.col(j).sum(), 1.0, 1e-15);
+  }
+  EXPECT_GT(w(0, 0), 0.8);            // near bone 0
+  EXPECT_NEAR(w(0, 1), 0.5, 1e-12);   // the rod's attachments are mirror-symmetric in x
+  EXPECT_GT(w(1, 2), 0.8);
   // ℓ → large: equal weights.
   const Eigen::MatrixXd flat = calcBlendWeights(p, field.getCentres(), a, 1e9);
   EXPECT_NEAR(flat(0, 0), 0.5, 1e-6);

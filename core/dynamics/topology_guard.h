@@ -1,0 +1,125 @@
+#pragma once
+/// @file
+/// Keeping a deformed muscle in one piece: small pieces of {f > 0} that came apart
+/// from the body ("islands") and bubbles of {f ≤ 0} inside it ("cavities") are found
+/// on a grid, lowered below zero and raised above it.
+///
+/// Why: the field is a sum of isotropic Gaussians of fixed shape. Where the motion
+/// stretches the muscle (the gluteus maximus by a median 1.6× and at most 2× at 80°
+/// flexion), neighbouring centres move apart, the sum between them drops, and a
+/// thin part can pinch off a small piece of the body. A fixed-shape isotropic
+/// Gaussian cannot stretch with the tissue, so this is a property of the
+/// representation, not of the descent; the guard makes the outcome explicit and
+/// bounded instead of leaving floating pieces in the output.
+#include "rbf/gaussian_field.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace rbfmuscle {
+
+/// Settings of the topology guard.
+struct TopologySettings {
+  bool enabled = true;     ///< false: never look
+  /// Grid spacing of the check (mm, > 0). With the same box and spacing as
+  /// MuscleDeformer::extractSurface, the guard sees exactly the surface that is output.
+  double cell_mm = 2.0;
+  int max_rounds = 10;     ///< rounds of changes, ≥ 1 (each followed by another look)
+  /// The top of an island is lowered to −margin and the bottom of a cavity raised to
+  /// +margin (field unit, ≥ 0), so rounding does not leave them at zero.
+  double margin = 0.05;
+};
+
+/// Why the guard stopped.
+enum class TopologyStop {
+  kOnePiece,      ///< {f > 0} on the grid is one piece (or empty) without cavities
+  kRoundCap,      ///< defects left after max_rounds rounds of changes
+  kStuck,         ///< no centre could change at any defect
+  kDisabled,      ///< the guard is off
+};
+
+/// Name of a stop reason ("one_piece", "round_cap", "stuck", "disabled").
+std::string toString(TopologyStop stop);
+
+/// What the guard did.
+struct TopologyReport {
+  int islands_found = 0;     ///< pieces of {f > 0} besides the largest at the first look
+  int cavities_found = 0;    ///< enclosed pieces of {f ≤ 0} (bubbles) at the first look
+  int defects_left = 0;      ///< islands + cavities at the last look
+  int rounds = 0;            ///< looks at the grid (changes + 1 when any)
+  int weights_changed = 0;   ///< weight changes made (0: the field is untouched)
+  std::int64_t grid_nodes = 0;    ///< nodes of the grid
+  std::int64_t looked_nodes = 0;  ///< nodes evaluated per look (near the support points)
+  TopologyStop stop_reason = TopologyStop::kDisabled;
+};
+
+/// Finds islands and cavities and removes them, changing nothing but weights (of free
+/// centres where there are any).
+///
+/// Each round looks at f on the nodes box.min() + cell·(i, j, k) (the grid of
+/// extractIsoSurface, whose box-face nodes count as outside) that lie within
+/// `support_radius_mm` (per axis) of a support point, and labels the pieces of inside
+/// nodes connected along the edges of its Kuhn tetrahedra (offsets in {0, 1}³ \ {0}
+/// and their negatives: 14 neighbours), which are the pieces the extracted surface
+/// bounds. The support points are the muscle's carried quadrature points: they cover
+/// every rest point with f₀ > −β, so material cannot be positive away from them, and
+/// the cost follows the muscle's volume rather than its box's. Every piece but the largest is an island; every piece of {f ≤ 0}
+/// (not-looked nodes counted as outside) not joined to the box faces is a cavity. At
+/// the island's highest node (the cavity's lowest) x* with value f*, the free centres
+/// active at x* (the attached ones only when no free one is) change their weights by
+/// the smallest change in Σ Δλₖ²/|λₖ| that brings f(x*) to ∓margin:
+///   Δλₖ = Δf |λₖ| φₖ(x*) / Σⱼ |λⱼ| φⱼ(x*)²,  Δf = −(f* + margin) or margin − f*,
+/// clamped so no weight changes sign (the fit's sign rule), which acts most on the
+/// centres that peak at x* and little on wide ones that also carry the body. Rounds
+/// repeat until no defect is left or the cap. Deterministic (islands in label order, centres ascending).
+class TopologyGuard {
+ public:
+  /// @param free_mask size N, true for the free centres (changed first)
+  /// @throws std::invalid_argument for bad settings (names the field).
+  TopologyGuard(std::vector<bool> free_mask, const TopologySettings& settings);
+
+  /// Checks `field` over the grid of `box_mm` near the support points (3×M, mm) and
+  /// lowers islands (see class comment).
+  /// @throws std::invalid_argument if the mask size differs from N or the box is empty.
+  TopologyReport run(GaussianField& field, const Eigen::AlignedBox3d& box_mm, const Eigen::Matrix3Xd& support_mm,
+                     double support_radius_mm);
+
+  /// Number of pieces of {f > 0} seen as in run(), without changing the field.
+  int countPieces(const GaussianField& field, const Eigen::AlignedBox3d& box_mm, const Eigen::Matrix3Xd& support_mm,
+                  double support_radius_mm);
+
+  /// The settings.
+  const TopologySettings& getSettings() const { return settings_; }
+
+ private:
+  /// Evaluates the looked-at nodes, labels the pieces of {f > 0} and then the cavities
+  /// (appended to piece_size_/piece_top_); returns the number of pieces of {f > 0}.
+  int label(const GaussianField& field, const Eigen::AlignedBox3d& box_mm, const Eigen::Matrix3Xd& support_mm,
+            double support_radius_mm);
+
+  static constexpr int kOutside = -2;     ///< node state: not looked at, on a box face, or f ≤ 0
+  static constexpr int kUnlabelled = -1;  ///< node state: inside, no piece yet
+
+  std::vector<bool> free_mask_;
+  TopologySettings settings_;
+  std::int64_t counts_[3] = {0, 0, 0};  ///< nodes per axis
+  std::int64_t grid_nodes_ = 0;
+  std::int64_t looked_nodes_ = 0;
+  std::vector<int> piece_of_node_;       ///< kOutside, kUnlabelled or the piece label, per node
+  std::vector<double> value_of_node_;    ///< f per looked-at node (0 elsewhere)
+  std::vector<std::int64_t> looked_ids_;  ///< looked-at nodes, ascending
+  Eigen::Matrix3Xd points_mm_;           ///< their positions
+  Eigen::VectorXd values_;               ///< f at points_mm_
+  std::vector<std::int64_t> piece_size_;
+  std::vector<std::int64_t> piece_top_;  ///< highest node of each piece, lowest of each cavity
+  int first_cavity_ = 0;                 ///< pieces [first_cavity_, end) are cavities
+  std::vector<std::uint8_t> exterior_;   ///< 1: joined to the box faces, 2: in a cavity
+  std::vector<std::int64_t> queue_;
+  ActiveCentres active_;
+};
+
+}  // namespace rbfmuscle

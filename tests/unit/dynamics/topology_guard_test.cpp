@@ -1,0 +1,125 @@
+// The island and cavity guard on fields whose pieces are known in closed form.
+#include "dynamics/topology_guard.h"
+
+#include "geometry/iso_surface.h"
+#include "geometry/mesh_check.h"
+#include "geometry/mesh_measures.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace rbfmuscle {
+namespace {
+
+const Eigen::AlignedBox3d kBox(Eigen::Vector3d::Constant(-40.0), Eigen::Vector3d::Constant(40.0));
+constexpr double kCell = 2.0;
+
+/// Support points: a 5 mm lattice over the box (radius 5 mm covers every node).
+Eigen::Matrix3Xd makeSupport() {
+  Eigen::Matrix3Xd p(3, 17 * 17 * 17);
+  int n = 0;
+  for (int k = 0; k < 17; ++k)
+    for (int j = 0; j < 17; ++j)
+      for (int i = 0; i < 17; ++i) p.col(n++) = kBox.min() + 5.0 * Eigen::Vector3d(i, j, k);
+  return p;
+}
+
+TriangleMesh extract(const GaussianField& field) {
+  return extractIsoSurface([&field](const Eigen::Matrix3Xd& p, Eigen::VectorXd& v) { field.calcValues(p, v); }, kBox,
+                           kCell);
+}
+
+/// Body: one Gaussian with f = 0 on the sphere of radius 10 mm (λ e^{−0.01·100} = 5 = −b).
+/// Second centre: `lambda2` with α = `alpha2` (mm⁻²) at `x2`.
+GaussianField makeBodyAnd(double lambda2, const Eigen::Vector3d& x2, double alpha2 = 0.5) {
+  Eigen::Matrix3Xd xi(3, 2);
+  xi.col(0).setZero();
+  xi.col(1) = x2;
+  return GaussianField(-5.0, xi, Eigen::Vector2d(5.0 * std::exp(1.0), lambda2), Eigen::Vector2d(0.01, alpha2));
+}
+
+TEST(TopologyGuard, LowersAnIslandAndLeavesTheBody) {
+  // A narrow bump 30 mm from the body: peak 10 − 5 > 0, a separate piece of radius ~1.2 mm.
+  GaussianField field = makeBodyAnd(10.0, Eigen::Vector3d(30.0, 0.0, 0.0));
+  ASSERT_EQ(checkMesh(extract(field)).components, 2);
+  const double body_volume = calcVolume(extract(makeBodyAnd(0.0, Eigen::Vector3d::Zero())));
+  TopologyGuard guard({true, true}, TopologySettings{});
+  const TopologyReport r = guard.run(field, kBox, makeSupport(), 5.0);
+  EXPECT_EQ(r.islands_found, 1);
+  EXPECT_EQ(r.cavities_found, 0);
+  EXPECT_EQ(r.defects_left, 0);
+  EXPECT_EQ(r.stop_reason, TopologyStop::kOnePiece) << toString(r.stop_reason);
+  EXPECT_GT(r.weights_changed, 0);
+  EXPECT_LT(field.getWeights()(1), 5.0);  // the bump no longer reaches zero on its own
+  EXPECT_NEAR(field.getWeights()(0), 5.0 * std::exp(1.0), 1e-2);  // the body barely changes
+  const TriangleMesh after = extract(field);
+  EXPECT_EQ(checkMesh(after).components, 1);
+  EXPECT_NEAR(calcVolume(after), body_volume, 1e-3 * body_volume);
+  EXPECT_EQ(guard.countPieces(field, kBox, makeSupport(), 5.0), 1);
+}
+
+TEST(TopologyGuard, FillsACavity) {
+  // A negative Gaussian 2 mm from the body's centre (on a grid node): f there ≈ 13.1 − 5 − 10
+  // < 0, a bubble of radius ~1.7 mm.
+  GaussianField field = makeBodyAnd(-10.0, Eigen::Vector3d(2.0, 0.0, 0.0), 0.1);
+  ASSERT_LT(field.calcValue(Eigen::Vector3d(2.0, 0.0, 0.0)), 0.0);
+  ASSERT_EQ(checkMesh(extract(field)).components, 2);
+  TopologyGuard guard({true, true}, TopologySettings{});
+  const TopologyReport r = guard.run(field, kBox, makeSupport(), 5.0);
+  EXPECT_EQ(r.islands_found, 0);
+  EXPECT_EQ(r.cavities_found, 1);
+  EXPECT_EQ(r.defects_left, 0);
+  EXPECT_EQ(r.stop_reason, TopologyStop::kOnePiece) << toString(r.stop_reason);
+  EXPECT_LE(field.getWeights()(1), 0.0);  // weights keep their sign
+  EXPECT_GT(field.getWeights()(1), -10.0);
+  EXPECT_EQ(checkMesh(extract(field)).components, 1);
+}
+
+TEST(TopologyGuard, UsesAttachedCentresOnlyWhenNoFreeOneReaches) {
+  GaussianField field = makeBodyAnd(10.0, Eigen::Vector3d(30.0, 0.0, 0.0));
+  field.setCutoff(1e-3);  // the body centre no longer reaches the bump
+  TopologyGuard guard({true, false}, TopologySettings{});  // the bump's centre is attached
+  const TopologyReport r = guard.run(field, kBox, makeSupport(), 5.0);
+  EXPECT_EQ(r.stop_reason, TopologyStop::kOnePiece) << toString(r.stop_reason);
+  EXPECT_LT(field.getWeights()(1), 10.0);
+  EXPECT_EQ(field.getWeights()(0), 5.0 * std::exp(1.0));
+}
+
+TEST(TopologyGuard, OnePieceIsLeftUntouchedAndDisabledDoesNothing) {
+  GaussianField field = makeBodyAnd(0.5, Eigen::Vector3d(3.0, 0.0, 0.0));  // one piece
+  const Eigen::VectorXd before = field.getWeights();
+  TopologyGuard guard({true, true}, TopologySettings{});
+  const TopologyReport r = guard.run(field, kBox, makeSupport(), 5.0);
+  EXPECT_EQ(r.stop_reason, TopologyStop::kOnePiece);
+  EXPECT_EQ(r.rounds, 1);
+  EXPECT_EQ(r.weights_changed, 0);
+  EXPECT_EQ(field.getWeights(), before);
+  EXPECT_GT(r.looked_nodes, 0);
+  EXPECT_LE(r.looked_nodes, r.grid_nodes);
+
+  GaussianField island = makeBodyAnd(10.0, Eigen::Vector3d(30.0, 0.0, 0.0));
+  TopologySettings off;
+  off.enabled = false;
+  TopologyGuard disabled({true, true}, off);
+  EXPECT_EQ(disabled.run(island, kBox, makeSupport(), 5.0).stop_reason, TopologyStop::kDisabled);
+  EXPECT_EQ(island.getWeights()(1), 10.0);
+}
+
+TEST(TopologyGuard, RejectsBadSettingsAndSizes) {
+  TopologySettings s;
+  s.cell_mm = 0.0;
+  EXPECT_THROW(TopologyGuard({true}, s), std::invalid_argument);
+  s = TopologySettings{};
+  s.max_rounds = 0;
+  EXPECT_THROW(TopologyGuard({true}, s), std::invalid_argument);
+  s = TopologySettings{};
+  s.margin = -1.0;
+  EXPECT_THROW(TopologyGuard({true}, s), std::invalid_argument);
+  GaussianField field = makeBodyAnd(1.0, Eigen::Vector3d::Zero());
+  TopologyGuard guard({true}, TopologySettings{});
+  EXPECT_THROW(guard.run(field, kBox, makeSupport(), 5.0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rbfmuscle
