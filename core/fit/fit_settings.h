@@ -16,9 +16,13 @@ struct FitSettings {
   double normal_offset_mm = 1.0;   ///< d: samples ±d along the vertex normals (mm)
   int halton_samples = 30000;      ///< Halton(2,3,5) samples in the padded box
   double padding_fraction = 0.1;   ///< box padding, fraction of the largest box side on each side
-  /// Shape set α (mm⁻²) the greedy step chooses from; σ = α^−½ from ~45 mm to ~1.4 mm.
-  std::vector<double> shapes_per_mm2 = {0.0005, 0.001, 0.002, 0.005, 0.01, 0.02,
-                                        0.05, 0.1, 0.2, 0.5};
+  /// Shape set α (mm⁻²) the greedy step chooses from; σ = α^−½ from ~14 mm to ~1.4 mm.
+  /// No wider shapes: a Gaussian can only move with its centre, so one much wider than
+  /// the muscle's thickness cannot follow a bend (the gluteus maximus at 80° flexion),
+  /// and it reaches more quadrature points, which slows every frame. Measured on the
+  /// gluteus maximus with 1000 centres: Jaccard 0.977 against 0.974 with shapes down to
+  /// 0.0005 (σ 45 mm), and a prediction-only frame 3× faster.
+  std::vector<double> shapes_per_mm2 = {0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5};
   double regularisation_gamma = 0.9;  ///< γ of eq. 7.12: 1 = pure error, lower = prefer wide shapes near the surface
   double ridge = 1e-6;             ///< Tikhonov weight μ on ‖λ‖², relative to the mean column norm²
   int candidates_per_round = 64;   ///< samples of largest residual scored per round

@@ -29,7 +29,7 @@ const char* const kFitUsage =
     "  --clamp-mm TAU          clamp of the signed-distance target [5]\n"
     "  --normal-offset-mm D    samples ±D along vertex normals [1]\n"
     "  --halton N              Halton samples in the padded box [30000]\n"
-    "  --shapes A,B,...        shape set α in mm^-2 [0.0005 … 0.5]\n"
+    "  --shapes A,B,...        shape set α in mm^-2 [0.005 … 0.5]\n"
     "  --gamma G               regularisation γ of eq. 7.12, 1 = none [0.9]\n"
     "  --batch-fraction F      centres added per round / current count [0.1]\n"
     "  --cell-mm H             grid cell of the extracted surface [1]\n"
