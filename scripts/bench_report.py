@@ -58,7 +58,7 @@ def write_csv(results, path):
     extra = sorted({k for r in results for m in r["muscles"].values() for k in m
                     if not k.startswith("_") and k not in MUSCLE_KEYS})
     stages = sorted({k for r in results for k in r if k.startswith("stage_")})
-    head = ["id", "kind", "knob", "value", "motion", "frames", "frame_mean_ms", "fps", "first_frame_ms",
+    head = ["id", "kind", "knob", "value", "motion", "frames", "frame_mean_ms", "fps", "deg_per_frame", "ms_per_deg", "first_frame_ms",
             "loop_mean_ms", "frame_median_ms", "frame_max_ms", "initialize_s", "wall_s"] + stages
     cols = head + [f"{n}.{k}" for n in muscles for k in MUSCLE_KEYS + extra] + ["command"]
     with open(path, "w", newline="") as f:
@@ -141,7 +141,8 @@ def section(results, machine, root):
     lines += ["Machine: " + f"{machine['cpu']}, {machine['nproc']} hardware threads, Linux {machine['kernel']}; "
               f"load average {la[0]:.2f} at the start, {lb[0]:.2f} at the end "
               "(the frame loop is single-threaded; with load > 1 the times are upper bounds). "
-              f"Commit {machine['commit']}, host `{machine['host']}`. "
+              f"Working tree at commit {machine['commit']}, host `{machine['host']}` built "
+              f"{machine.get('host_built', '(time unknown)')}. "
               f"The sweep took {machine['sweep_minutes']:.1f} min.", "",
               "Reproduce: `" + machine["command"] + "` (then `/usr/bin/python3 scripts/render_hip.py` for the "
               "pictures). Every run's command line is in the `command` column of "
@@ -173,7 +174,8 @@ def section(results, machine, root):
                      100 * m["descent_ms"] / frame])
         for k in timings:
             rows.append([f"{name}: {k[:-3]}", m[k], 100 * m[k] / frame])
-        rows.append([f"{name}: rest of update (prediction, volume, fibres, line of action)", m["other_ms"],
+        rows.append([f"{name}: rest of update (prediction, volume, fibres, line of action"
+                     + (")" if timings else ", contacts)"), m["other_ms"],
                      100 * m["other_ms"] / frame])
     for k, v in base.items():
         if k.startswith("stage_") and not any(k == f"stage_{n}_ms" for n in muscles):
@@ -215,15 +217,19 @@ def section(results, machine, root):
     for r in results:
         if r["kind"] == "restore":
             continue
-        rows.append([r["id"], r["knob"], str(r["value"]), r["frames"], r["frame_mean_ms"], r["fps"]] +
+        rows.append([r["id"], r["knob"], str(r["value"]), r["frames"], r["frame_mean_ms"], r["fps"],
+                     r.get("ms_per_deg", float("nan"))] +
                     [r["muscles"][n]["update_ms"] for n in muscles] +
+                    ["/".join(f"{r['muscles'][n]['iterations']:.0f}" for n in muscles)] +
                     [worst(r, k) for k in ("surface_mean_mm", "surface_max_mm", "volume_drift", "fibre_dev",
                                            "penetration_mm")])
     lines += ["### Sweep (errors: worse muscle; per-muscle values in the csv)", "",
               "One knob at a time around the model's settings; `reference` is the high-fidelity run the fibre "
-              "deviation is measured against (at its frames' angles).", "",
-              table(["run", "knob", "value", "frames", "ms/frame", "frames/s"] +
-                    [f"{n} update ms" for n in muscles] +
+              "deviation is measured against (at its frames' angles). Under load the wall times of runs made "
+              "minutes apart differ by more than the repeat spread below; the descent iterations (capped by "
+              "`max_iterations`) are the machine-independent measure of work.", "",
+              table(["run", "knob", "value", "frames", "ms/frame", "frames/s", "ms per degree of motion"] +
+                    [f"{n} update ms" for n in muscles] + ["mean iterations (" + "/".join(muscles) + ")"] +
                     ["surface mean mm", "surface max mm", "volume drift", "fibre dev", "penetration mm"], rows), ""]
 
     # Restore.
@@ -232,10 +238,11 @@ def section(results, machine, root):
         rows = [[r["id"][len("restore_"):], n, r["muscles"][n]["restore_fibre"], r["muscles"][n]["restore_volume"],
                  r["muscles"][n]["restore_surface_mm"]] for r in rest for n in muscles]
         lines += ["### Restore after flexion and back (`" + rest[0]["motion"] + "`)", "",
-                  "Difference between the first (rest) and last frame after going to full flexion and back. "
+                  "Difference between the first (rest) and last frame after flexing to the motion's largest angle "
+                  "and back. "
                   "Rigid-motion error is not measured: in the hip scene the pelvis is welded to the ground, "
                   "so no motion moves both attachments together.", "",
-                  table(["run", "muscle", "|Δ normalised fibre length|", "|Δ V/V0|",
+                  table(["run", "muscle", "abs Δ normalised fibre length", "abs Δ V/V0",
                          "mean surface distance (mm)"], rows), ""]
 
     # Spread.

@@ -25,7 +25,6 @@ The reference run has twice the centres and quadrature points, cost_tolerance 1e
 max_iterations 500 (--full: on the 1-degree motion).
 """
 import argparse
-import csv
 import datetime
 import json
 import math
@@ -168,7 +167,8 @@ def configurations(model, args, props):
     if not quick:
         add("step_1deg", "frame_step_deg", 1, motion="fine")
     if "contact_probes" in props:
-        for n in ([] if quick else ([32, 64, 128, 256, 512, 1024] if full else [64, 256])):
+        # 0 switches contacts off (the cost of contacts); the base run has the class default.
+        for n in ([] if quick else ([0, 250, 500, 1000, 4000, 8000] if full else [0, 500, 1000])):
             add(f"probes_{n}", "contact_probes", n, props_all={"contact_probes": n})
     # High fidelity: tight tolerance and a high iteration cap; more quadrature (and, in
     # --full, twice the centres and 1-degree frames).
@@ -247,6 +247,8 @@ def measure(outdir, model, config):
     row["frame_mean_ms"] = float(np.mean(updates[1:] if frames > 1 else updates)) + host_ms
     row["fps"] = 1000.0 / row["frame_mean_ms"]
     angles = sto.angle_deg()
+    row["deg_per_frame"] = float(np.mean(np.abs(np.diff(angles)))) if frames > 1 else float("nan")
+    row["ms_per_deg"] = row["frame_mean_ms"] / row["deg_per_frame"] if frames > 1 else float("nan")
     per = {}
     for muscle in model["muscles"]:
         n = muscle["name"]
@@ -260,11 +262,12 @@ def measure(outdir, model, config):
         for label in sto.labels:
             if label.startswith(n + ".") and label.endswith("_ms") and label[len(n) + 1:] not in m:
                 m[label[len(n) + 1:]] = float(np.mean(sto[label][moving]))
-        m["other_ms"] = m["update_ms"] - m["descent_ms"]
+        extra = [k for k in m if k not in ("update_ms", "descent_ms", "iterations")]
+        m["other_ms"] = m["update_ms"] - m["descent_ms"] - sum(m[k] for k in extra if not math.isnan(m[k]))
         v = get("volume_ratio")
         m["volume_drift"] = float(np.max(np.abs(v - 1.0))) if v is not None else float("nan")
         v = get("max_penetration_mm")
-        m["penetration_mm"] = float(np.max(v)) if v is not None else float("nan")
+        m["penetration_mm"] = float(np.nanmax(v)) if v is not None and np.any(~np.isnan(v)) else float("nan")
         v = get("fiber_points_outside")
         m["fibre_points_outside"] = float(np.max(v)) if v is not None else float("nan")
         fl = get("fiber_length_normalised")
@@ -311,7 +314,8 @@ def machine_info(host):
         commit, dirty = "unknown", ""
     return {"cpu": cpu, "nproc": os.cpu_count(), "kernel": platform.release(), "python": platform.python_version(),
             "commit": commit + (" (+ uncommitted changes)" if dirty else ""), "host": os.path.relpath(host, ROOT),
-            "load_start": os.getloadavg(), "date": datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC")}
+            "load_start": os.getloadavg(),
+            "host_built": datetime.datetime.utcfromtimestamp(os.path.getmtime(host)).strftime("%Y-%m-%d %H:%M UTC"), "date": datetime.datetime.utcnow().strftime("%Y-%m-%d %H:%M UTC")}
 
 
 def main():
@@ -335,6 +339,7 @@ def main():
         f"{'swept' if 'contact_probes' in props else 'not a property: skipped'}")
 
     results = []
+    all_reused = True
     for k, config in enumerate(configs, 1):
         outdir = os.path.join(args.work, "runs", config["id"])
         cmd, centres = build_command(args, model, cache, config, motions, outdir)
@@ -345,6 +350,7 @@ def main():
                 reused = json.load(f).get("command") == cmd
         elapsed = time.monotonic() - started
         log(f"[{k}/{len(configs)}] {config['id']} ({elapsed / 60:.1f} min so far)" + (" reused" if reused else ""))
+        all_reused = all_reused and reused
         if not reused:
             wall, _ = run_command(cmd, f"run {config['id']}")
             with open(stamp, "w") as f:
@@ -374,10 +380,26 @@ def main():
     machine["load_end"] = os.getloadavg()
     machine["sweep_minutes"] = (time.monotonic() - started) / 60.0
     machine["mode"] = mode
+    argv, skip = [], False
+    for a in sys.argv[1:]:  # the command without --note TEXT and --reuse
+        if skip or a in ("--note", "--reuse") or a.startswith("--note="):
+            skip = a == "--note"
+            continue
+        argv.append(a)
     machine["command"] = "/usr/bin/python3 " + " ".join(
-        [os.path.relpath(os.path.abspath(sys.argv[0]), ROOT)] + sys.argv[1:])
+        [os.path.relpath(os.path.abspath(sys.argv[0]), ROOT)] + argv)
     machine["fit_seconds"] = cache.fit_seconds
     machine["note"] = args.note
+    # The machine figures belong to the sweep that made the runs: a --reuse that ran
+    # nothing keeps those of the last real sweep.
+    machine_file = os.path.join(args.work, f"machine_{mode}.json")
+    if all_reused and os.path.exists(machine_file):
+        with open(machine_file) as f:
+            machine = json.load(f)
+        machine["note"] = args.note or machine.get("note", "")
+    else:
+        with open(machine_file, "w") as f:
+            json.dump(machine, f, indent=1)
     os.makedirs(args.report, exist_ok=True)
     bench_report.write_all(results, machine, args.report, ROOT)
     log(f"done in {machine['sweep_minutes']:.1f} min: {os.path.relpath(args.report, ROOT)}/speed_vs_error.csv, "
