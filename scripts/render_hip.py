@@ -42,6 +42,9 @@ def parse_args():
     p.add_argument("--angles", default="0,40,80", help="flexion angles (deg) of the 3-D pictures")
     p.add_argument("--cell-mm", type=float, default=4.0, help="decimation cell of the bone meshes (mm)")
     p.add_argument("--fibres", type=int, default=0, help="draw every N-th fibre over the muscles (0 = none)")
+    p.add_argument("--views", default="-10,-70",
+                   help="azimuths (deg) of the picture rows: -10 from the medial side (the CT +x), -70 from "
+                        "anterior-medial (the CT -y is anterior)")
     return p.parse_args()
 
 
@@ -89,7 +92,7 @@ def frame_of_angle(angles_deg, angle):
     return k
 
 
-def render_scene(run_dir, model, sto, angles, report, cell_mm, fibre_every):
+def render_scene(run_dir, model, sto, angles, views, report, cell_mm, fibre_every):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -102,12 +105,12 @@ def render_scene(run_dir, model, sto, angles, report, cell_mm, fibre_every):
     adduction = sto.angle_deg("hip_adduction_r") if sto.has("hip_adduction_r") else 0 * flexion
     rotation = sto.angle_deg("hip_rotation_r") if sto.has("hip_rotation_r") else 0 * flexion
     names = [m["name"] for m in model["muscles"]]
-    fig = plt.figure(figsize=(5.0 * len(angles), 6.0))
+    fig = plt.figure(figsize=(5.0 * len(angles), 5.4 * len(views) + 0.6))
     bounds = None
-    for p, angle in enumerate(angles):
+    for p, (azimuth, angle) in enumerate((a, b) for a in views for b in angles):
         k = frame_of_angle(flexion, angle)
         R, c = bench_io.urdf_hip_rotation(model["skeleton"], flexion[k], adduction[k], rotation[k])
-        ax = fig.add_subplot(1, len(angles), p + 1, projection="3d")
+        ax = fig.add_subplot(len(views), len(angles), p + 1, projection="3d")
         parts = [(pelvis[0], pelvis[1], BONE_COLOUR), ((femur[0] - c) @ R.T + c, femur[1], BONE_COLOUR)]
         for j, name in enumerate(names):
             path = os.path.join(run_dir, "meshes", f"{name}_{k:05d}.vtp")
@@ -134,13 +137,13 @@ def render_scene(run_dir, model, sto, angles, report, cell_mm, fibre_every):
         ax.set_ylim(centre[1] - half, centre[1] + half)
         ax.set_zlim(centre[2] - half, centre[2] + half)
         ax.set_box_aspect((1, 1, 1))
-        ax.view_init(elev=5, azim=-10)  # from the side (+x of the CT frame is lateral-ish), z up
+        ax.view_init(elev=5, azim=azimuth)  # z (superior) up
         ax.set_axis_off()
-        ax.set_title(f"hip flexion {flexion[k]:.0f}°")
+        ax.set_title(f"hip flexion {flexion[k]:.0f}° (view azimuth {azimuth:g}°)")
     handles = [plt.Rectangle((0, 0), 1, 1, color=MUSCLE_COLOURS[j % len(MUSCLE_COLOURS)]) for j in range(len(names))]
     fig.legend(handles + [plt.Rectangle((0, 0), 1, 1, color=BONE_COLOUR)], names + ["bones"], loc="lower center",
                ncol=len(names) + 1)
-    fig.tight_layout(rect=(0, 0.05, 1, 1))
+    fig.tight_layout(rect=(0, 0.04, 1, 1))
     out = os.path.join(report, "hip_flexion_0_40_80.png")
     fig.savefig(out, dpi=100)
     plt.close(fig)
@@ -205,7 +208,8 @@ def main():
     pictures = []
     if os.path.isdir(os.path.join(run_dir, "meshes")) and os.listdir(os.path.join(run_dir, "meshes")):
         angles = [float(a) for a in args.angles.split(",")]
-        pictures.append(render_scene(run_dir, model, sto, angles, args.report, args.cell_mm, args.fibres))
+        views = [float(v) for v in args.views.split(",")]
+        pictures.append(render_scene(run_dir, model, sto, angles, views, args.report, args.cell_mm, args.fibres))
     else:
         print(f"render_hip: {run_dir} has no meshes/: 3-D picture skipped (run with --frames-mesh)")
     pictures.append(plot_fibres(model, sto, args.report))
