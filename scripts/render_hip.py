@@ -184,11 +184,14 @@ def plot_fibres(model, sto, report):
     return out
 
 
-def update_readme(report, run_dir, command, pictures):
+def update_readme(report, run_dir, motion, command, pictures):
     readme = os.path.join(report, "README.md")
     text = open(readme).read() if os.path.exists(readme) else "# rbfmuscle report\n\n"
     body = [BEGIN, "", "## Pictures", "",
-            f"From the run in `{os.path.relpath(run_dir, ROOT)}`; reproduce with `{command}`.", ""]
+            f"From the run in `{os.path.relpath(run_dir, ROOT)}` ({motion}); reproduce with "
+            f"`{command}` (it runs `rbfmuscle run MODEL --motion MOTION --frames-mesh`; `--run OUTDIR` reuses a "
+            "run). Bones: pelvis at rest, femur moved by the URDF hip joints; muscles: the per-frame surfaces "
+            "(f = 0, `surface_cell_mm` grid), decimated for drawing.", ""]
     body += [f"![{os.path.basename(p)}]({os.path.basename(p)})" for p in pictures] + ["", END]
     new = "\n".join(body)
     if BEGIN in text and END in text:
@@ -213,8 +216,16 @@ def main():
     else:
         print(f"render_hip: {run_dir} has no meshes/: 3-D picture skipped (run with --frames-mesh)")
     pictures.append(plot_fibres(model, sto, args.report))
-    command = "/usr/bin/python3 " + " ".join([os.path.relpath(os.path.abspath(sys.argv[0]), ROOT)] + sys.argv[1:])
-    update_readme(args.report, run_dir, command, pictures)
+    argv, skip = [], False
+    for a in sys.argv[1:]:  # the command that makes the run too: without --run DIR
+        if skip or a == "--run":
+            skip = a == "--run"
+            continue
+        argv.append(a)
+    command = "/usr/bin/python3 " + " ".join([os.path.relpath(os.path.abspath(sys.argv[0]), ROOT)] + argv)
+    flexion = sto.angle_deg("hip_flexion_r")
+    motion = f"{len(flexion)} frames, flexion {flexion.min():.0f}–{flexion.max():.0f}°"
+    update_readme(args.report, run_dir, motion, command, pictures)
     for p in pictures:
         print("render_hip: wrote " + os.path.relpath(p, ROOT))
 
