@@ -49,7 +49,10 @@
 ///   it was at rest (documented rest overlap: the pelvis proxy overlaps the iliacus by up to
 ///   8 mm), only the excess counts and is resolved; a frame in which a bone point near the muscle
 ///   moves more than half the local muscle thickness is split into sub-steps (bone poses
-///   interpolated along their screw motion, the deformer and the contacts run per sub-step).
+///   interpolated along their screw motion, the deformer and the contacts run per sub-step;
+///   bone walls are taken as thicker than the muscle, ContactBone::thickness_mm = ∞).
+///   Probes: contact_probes vertices of the rest surface (surface_cell_mm grid), carried by the
+///   same dual-quaternion blend as the quadrature points and projected onto f = 0.
 ///   socket_origin_body, socket_insertion_body: the bones
 /// Outputs: volume_mm3, volume_ratio, curvature_cost, iterations (descent),
 ///   update_ms, descent_ms, attached_centres;
