@@ -295,6 +295,32 @@ def fibre_deviation(run_fibre, ref_fibre):
     return float(np.mean(diffs)) if diffs else float("nan")
 
 
+def core_benchmarks(host, model):
+    """Rigid-motion and restore errors from benchmarks/deformer_bench.cpp (the executable
+    rbfmuscle_bench next to the host), per muscle surface; [] when it is not built."""
+    bench = os.path.join(os.path.dirname(host), "rbfmuscle_bench")
+    if not os.access(bench, os.X_OK):
+        log("rbfmuscle_bench not built (benchmarks/): rigid-motion errors skipped")
+        return []
+    rows = []
+    for muscle in model["muscles"]:
+        if not muscle["surface"] or not os.path.exists(muscle["surface"]):
+            continue
+        log(f"core benchmark on {muscle['name']} ({os.path.relpath(muscle['surface'], ROOT)}) ...")
+        env = dict(os.environ, RBFMUSCLE_BENCH_RBF=muscle["surface"])
+        r = subprocess.run([bench, "--benchmark_format=json"], stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                           text=True, env=env)
+        if r.returncode != 0:
+            raise RuntimeError(f"rbfmuscle_bench failed on {muscle['surface']}:\n{r.stderr[-2000:]}")
+        for b in json.loads(r.stdout)["benchmarks"]:
+            row = {"muscle": muscle["name"], "benchmark": b["name"].split("/iterations")[0],
+                   "built": datetime.datetime.utcfromtimestamp(os.path.getmtime(bench)).strftime("%H:%M UTC"),
+                   "time_ms": b["real_time"] if b.get("time_unit") == "ms" else float("nan")}
+            row.update({k: v for k, v in b.items() if k.endswith(("_mm", "_error")) or k in ("iterations",)})
+            rows.append(row)
+    return rows
+
+
 def machine_info(host):
     cpu = "unknown"
     try:
@@ -373,6 +399,17 @@ def main():
             f"run {wall:.1f} s")
         results.append(row)
 
+    bench_file = os.path.join(args.work, f"core_bench_{mode}.json")
+    if args.quick:
+        bench_rows = []
+    elif args.reuse and os.path.exists(bench_file):
+        with open(bench_file) as f:
+            bench_rows = json.load(f)
+    else:
+        bench_rows = core_benchmarks(args.host, model)
+        with open(bench_file, "w") as f:
+            json.dump(bench_rows, f, indent=1)
+    machine["core_benchmarks"] = bench_rows
     reference = next(r for r in results if r["kind"] == "reference")
     for r in results:
         for name, m in r["muscles"].items():
@@ -397,6 +434,7 @@ def main():
         with open(machine_file) as f:
             machine = json.load(f)
         machine["note"] = args.note or machine.get("note", "")
+        machine["core_benchmarks"] = bench_rows
     else:
         with open(machine_file, "w") as f:
             json.dump(machine, f, indent=1)
