@@ -174,13 +174,19 @@ def section(results, machine, root):
                      100 * m["descent_ms"] / frame])
         for k in timings:
             rows.append([f"{name}: {k[:-3]}", m[k], 100 * m[k] / frame])
-        rows.append([f"{name}: rest of update (prediction, volume, fibres, line of action"
-                     + (")" if timings else ", contacts)"), m["other_ms"],
+        rows.append([f"{name}: rest of update", m["other_ms"],
                      100 * m["other_ms"] / frame])
     for k, v in base.items():
         if k.startswith("stage_") and not any(k == f"stage_{n}_ms" for n in muscles):
             rows.append([f"host stage: {k[6:-3]}", v, 100 * v / frame])
     rows.append(["frame total (moving frames)", frame, 100.0])
+    extra_timers = sorted({k[:-3] for n in muscles for k in base["muscles"][n]
+                           if k.endswith("_ms") and k not in ("update_ms", "descent_ms", "other_ms", "surface_mean_mm",
+                                                              "surface_max_mm", "penetration_mm",
+                                                              "restore_surface_mm")})
+    timed_note = ("Timed apart by the component: descent" + "".join(f", {t}" for t in extra_timers) +
+                  "; 'rest of update' is everything else (prediction, volume correction, fibres, line of action"
+                  + ("" if "collision" in extra_timers else ", contacts") + ").")
     lines += ["### Where a frame's time goes (model settings)", "",
               f"Mean over the {max(1, base['frames'] - 1)} moving frames of `{base['motion']}`; the component reports "
               "`update_ms` and `descent_ms` per frame, the host the stages in summary.json. "
@@ -188,8 +194,7 @@ def section(results, machine, root):
               ", ".join(f"{n} {base['muscles'][n]['iterations']:.1f}" for n in muscles) +
               f". Frame 0 (the rest pose) is left out of the means: its one-time setup took "
               f"{base['first_frame_ms']:.0f} ms. Initialisation (load the cached fit, attachments, quadrature, "
-              f"fibres): {base['initialize_s']:.2f} s, not in the frame time. The component does not yet time "
-              "prediction, volume correction, fibres and contacts apart; they are the 'rest of update' rows.", "",
+              f"fibres): {base['initialize_s']:.2f} s, not in the frame time. " + timed_note, "",
               table(["part", "ms per frame", "% of frame"], rows), ""]
 
     # Cost growth.
