@@ -2,6 +2,7 @@
 
 #include "geometry/iso_surface.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -51,7 +52,11 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
   descent_ = std::make_unique<CurvatureDescent>(*cost_, free_mask, settings.descent);
   const double h = quadrature_.cell_mm;
   volume_keeper_ = std::make_unique<VolumeKeeper>(quadrature_.points_mm, h * h * h, rest_field_, settings.volume);
-  topology_guard_ = std::make_unique<TopologyGuard>(free_mask, settings.topology);
+  // Weight limits of the guard: twice the rest weight plus the mean rest weight, so a
+  // near-zero weight can still help fill a cavity but no weight grows without bound.
+  const Eigen::VectorXd rest_abs = rest_field_.getWeights().cwiseAbs();
+  const Eigen::VectorXd limits = (2.0 * rest_abs.array() + rest_abs.mean()).matrix();
+  topology_guard_ = std::make_unique<TopologyGuard>(free_mask, limits, settings.topology);
   transforms_.assign(static_cast<size_t>(attachments.num_bones), DualQuaternion{});
   predicted_centres_mm_ = rest_centres;
   current_points_mm_ = quadrature_.points_mm;
@@ -130,14 +135,20 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
 
   // Islands, then the volume again (lowering them loses volume, and raising b to
   // restore it can lift a lowered island back above zero): repeated while the guard
-  // changes something, at most kGuardPasses times.
-  constexpr int kGuardPasses = 3;
+  // changes something, at most kGuardPasses times, and the count after the last
+  // volume step is what islands_left reports.
+  constexpr int kGuardPasses = 5;
   result_.topology_ms = 0.0;
   result_.islands_found = 0;
-  for (int pass = 0; pass < kGuardPasses; ++pass) {
+  for (int pass = 0;; ++pass) {
     start = std::chrono::steady_clock::now();
-    const TopologyReport topology =
-        topology_guard_->run(field_, calcCurrentBox(), current_points_mm_, quadrature_.cell_mm);
+    TopologyReport topology;
+    if (pass < kGuardPasses) {
+      topology = topology_guard_->run(field_, calcCurrentBox());
+    } else {
+      topology.defects_left = std::max(0, topology_guard_->countPieces(field_, calcCurrentBox()) - 1);
+      topology.stop_reason = topology.defects_left == 0 ? TopologyStop::kOnePiece : TopologyStop::kRoundCap;
+    }
     result_.topology_ms += msSince(start);
     result_.islands_found += topology.islands_found + topology.cavities_found;
     result_.islands_left = topology.defects_left;

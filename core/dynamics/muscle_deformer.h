@@ -73,7 +73,7 @@ struct DeformResult {
 ///  3. volume (volume_keeper.h): b solved so the volume equals the rest volume;
 ///  4. islands (topology_guard.h): pieces that came apart from the body are lowered
 ///     below zero through the weights of free centres, then step 3 runs again, and
-///     both repeat while the guard changes something (at most 3 passes).
+///     both repeat while the guard changes something (at most 5 passes, then a last count).
 /// With warm_start (default) a frame starts from the previous frame's result carried
 /// by the change of prediction, so the result depends on the sequence of transforms
 /// (identical sequences give bitwise identical fields); without it each frame starts

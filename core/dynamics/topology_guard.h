@@ -11,6 +11,7 @@
 /// Gaussian cannot stretch with the tissue, so this is a property of the
 /// representation, not of the descent; the guard makes the outcome explicit and
 /// bounded instead of leaving floating pieces in the output.
+#include "rbf/field_on_grid.h"
 #include "rbf/gaussian_field.h"
 
 #include <Eigen/Core>
@@ -30,8 +31,10 @@ struct TopologySettings {
   double cell_mm = 2.0;
   int max_rounds = 10;     ///< rounds of changes, ≥ 1 (each followed by another look)
   /// The top of an island is lowered to −margin and the bottom of a cavity raised to
-  /// +margin (field unit, ≥ 0), so rounding does not leave them at zero.
-  double margin = 0.05;
+  /// +margin (field unit, mm for a signed-distance fit; ≥ 0), so the volume step that
+  /// follows (which moves b by a few tenths at 80° flexion) does not bring them back:
+  /// on the gluteus maximus at 10° steps, 0.05 left one island at 80°, 0.25 none.
+  double margin = 0.25;
 };
 
 /// Why the guard stopped.
@@ -53,67 +56,62 @@ struct TopologyReport {
   int rounds = 0;            ///< looks at the grid (changes + 1 when any)
   int weights_changed = 0;   ///< weight changes made (0: the field is untouched)
   std::int64_t grid_nodes = 0;    ///< nodes of the grid
-  std::int64_t looked_nodes = 0;  ///< nodes evaluated per look (near the support points)
   TopologyStop stop_reason = TopologyStop::kDisabled;
 };
 
 /// Finds islands and cavities and removes them, changing nothing but weights (of free
 /// centres where there are any).
 ///
-/// Each round looks at f on the nodes box.min() + cell·(i, j, k) (the grid of
-/// extractIsoSurface, whose box-face nodes count as outside) that lie within
-/// `support_radius_mm` (per axis) of a support point, and labels the pieces of inside
-/// nodes connected along the edges of its Kuhn tetrahedra (offsets in {0, 1}³ \ {0}
-/// and their negatives: 14 neighbours), which are the pieces the extracted surface
-/// bounds. The support points are the muscle's carried quadrature points: they cover
-/// every rest point with f₀ > −β, so material cannot be positive away from them, and
-/// the cost follows the muscle's volume rather than its box's. Every piece but the largest is an island; every piece of {f ≤ 0}
-/// (not-looked nodes counted as outside) not joined to the box faces is a cavity. At
+/// Each round evaluates f on the nodes box.min() + cell·(i, j, k) (the grid of
+/// extractIsoSurface, whose box-face nodes count as outside) by calcValuesOnGrid, and
+/// labels the pieces of inside nodes connected along the edges of its Kuhn tetrahedra
+/// (offsets in {0, 1}³ \ {0} and their negatives: 14 neighbours), which are the pieces
+/// the extracted surface bounds. Every piece but the largest is an island; every piece of {f ≤ 0}
+/// not joined to the box faces is a cavity. At
 /// the island's highest node (the cavity's lowest) x* with value f*, the free centres
 /// active at x* (the attached ones only when no free one is) change their weights by
 /// the smallest change in Σ Δλₖ²/|λₖ| that brings f(x*) to ∓margin:
 ///   Δλₖ = Δf |λₖ| φₖ(x*) / Σⱼ |λⱼ| φⱼ(x*)²,  Δf = −(f* + margin) or margin − f*,
-/// clamped so no weight changes sign (the fit's sign rule), which acts most on the
+/// clamped to at most |λₖ| per round, to |λₖ| ≤ its limit, and so no weight changes
+/// sign (the fit's sign rule), which acts most on the
 /// centres that peak at x* and little on wide ones that also carry the body. Rounds
 /// repeat until no defect is left or the cap. Deterministic (islands in label order, centres ascending).
 class TopologyGuard {
  public:
   /// @param free_mask size N, true for the free centres (changed first)
-  /// @throws std::invalid_argument for bad settings (names the field).
-  TopologyGuard(std::vector<bool> free_mask, const TopologySettings& settings);
+  /// @param max_abs_weights size N, ≥ 0: |λₖ| never goes above this (the deformer gives
+  ///   twice the rest weight, so repeated fills over many frames cannot grow a weight
+  ///   without bound)
+  /// @throws std::invalid_argument for bad settings (names the field) or limits.
+  TopologyGuard(std::vector<bool> free_mask, Eigen::VectorXd max_abs_weights, const TopologySettings& settings);
 
-  /// Checks `field` over the grid of `box_mm` near the support points (3×M, mm) and
-  /// lowers islands (see class comment).
+  /// Checks `field` over the grid of `box_mm` and removes islands and cavities (see
+  /// class comment).
   /// @throws std::invalid_argument if the mask size differs from N or the box is empty.
-  TopologyReport run(GaussianField& field, const Eigen::AlignedBox3d& box_mm, const Eigen::Matrix3Xd& support_mm,
-                     double support_radius_mm);
+  TopologyReport run(GaussianField& field, const Eigen::AlignedBox3d& box_mm);
 
-  /// Number of pieces of {f > 0} seen as in run(), without changing the field.
-  int countPieces(const GaussianField& field, const Eigen::AlignedBox3d& box_mm, const Eigen::Matrix3Xd& support_mm,
-                  double support_radius_mm);
+  /// Number of closed surfaces the extraction over `box_mm` would give (pieces of
+  /// {f > 0} plus cavities), without changing the field.
+  int countPieces(const GaussianField& field, const Eigen::AlignedBox3d& box_mm);
 
   /// The settings.
   const TopologySettings& getSettings() const { return settings_; }
 
  private:
-  /// Evaluates the looked-at nodes, labels the pieces of {f > 0} and then the cavities
-  /// (appended to piece_size_/piece_top_); returns the number of pieces of {f > 0}.
-  int label(const GaussianField& field, const Eigen::AlignedBox3d& box_mm, const Eigen::Matrix3Xd& support_mm,
-            double support_radius_mm);
+  /// Evaluates the grid, labels the pieces of {f > 0} and then the cavities (appended
+  /// to piece_size_/piece_top_); returns the number of pieces of {f > 0}.
+  int label(const GaussianField& field, const Eigen::AlignedBox3d& box_mm);
 
-  static constexpr int kOutside = -2;     ///< node state: not looked at, on a box face, or f ≤ 0
+  static constexpr int kOutside = -2;     ///< node state: on a box face, or f ≤ 0
   static constexpr int kUnlabelled = -1;  ///< node state: inside, no piece yet
 
   std::vector<bool> free_mask_;
+  Eigen::VectorXd max_abs_weights_;
   TopologySettings settings_;
-  std::int64_t counts_[3] = {0, 0, 0};  ///< nodes per axis
-  std::int64_t grid_nodes_ = 0;
-  std::int64_t looked_nodes_ = 0;
-  std::vector<int> piece_of_node_;       ///< kOutside, kUnlabelled or the piece label, per node
-  std::vector<double> value_of_node_;    ///< f per looked-at node (0 elsewhere)
-  std::vector<std::int64_t> looked_ids_;  ///< looked-at nodes, ascending
-  Eigen::Matrix3Xd points_mm_;           ///< their positions
-  Eigen::VectorXd values_;               ///< f at points_mm_
+  RegularGrid grid_;
+  std::vector<double> value_of_node_;     ///< f per node
+  std::vector<int> piece_of_node_;        ///< kOutside, kUnlabelled or the piece label, per node
+  std::vector<std::int64_t> inside_ids_;  ///< nodes with f > 0 off the box faces, ascending
   std::vector<std::int64_t> piece_size_;
   std::vector<std::int64_t> piece_top_;  ///< highest node of each piece, lowest of each cavity
   int first_cavity_ = 0;                 ///< pieces [first_cavity_, end) are cavities

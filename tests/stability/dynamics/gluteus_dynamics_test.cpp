@@ -1,6 +1,6 @@
 // Stability checks of the dynamics on the real gluteus maximus (LHDL). The fit
 // (300 centres) is cached in RBFMUSCLE_BINARY_DIR/test_cache/ and reused while the
-// mesh hash matches.
+// mesh hash and the fit settings match.
 #include "dynamics/curvature_descent.h"
 #include "dynamics/muscle_deformer.h"
 
@@ -29,13 +29,13 @@ const RbfSurface& gluteus() {
     const std::filesystem::path dir = std::filesystem::path(RBFMUSCLE_BINARY_DIR) / "test_cache";
     std::filesystem::create_directories(dir);
     const std::string cached = (dir / "gluteus_maximus_r_300.rbf").string();
-    if (std::filesystem::exists(cached)) {
-      RbfSurface s = readRbfFile(cached);
-      if (s.source_hash == hashFile(kMesh)) return s;
-    }
     FitSettings settings;
     settings.max_centres = 300;
     settings.metric_points = 100000;
+    if (std::filesystem::exists(cached)) {
+      RbfSurface s = readRbfFile(cached);
+      if (s.source_hash == hashFile(kMesh) && s.settings == describeSettings(settings)) return s;
+    }
     MeshFit fit = fitMeshFile(kMesh, settings, false);
     writeRbfFile(cached, fit.surface);
     return fit.surface;
