@@ -364,6 +364,10 @@ def main():
         f"({', '.join(m['name'] for m in model['muscles'])}); contact_probes "
         f"{'swept' if 'contact_probes' in props else 'not a property: skipped'}")
 
+    # A run is reused (--reuse) only with the same command and the same host and plugin
+    # builds, so a report never mixes runs of different code.
+    plugin = os.path.normpath(os.path.join(os.path.dirname(args.host), "..", "lib", "librbfmuscle_plugin.so"))
+    build = {os.path.basename(p): os.path.getmtime(p) for p in (args.host, plugin) if os.path.exists(p)}
     results = []
     all_reused = True
     for k, config in enumerate(configs, 1):
@@ -373,14 +377,17 @@ def main():
         reused = False
         if args.reuse and os.path.exists(stamp):
             with open(stamp) as f:
-                reused = json.load(f).get("command") == cmd
+                old = json.load(f)
+            reused = old.get("command") == cmd and old.get("build") == build
+            if not reused and old.get("command") == cmd:
+                log("      host or plugin rebuilt since this run: running it again")
         elapsed = time.monotonic() - started
         log(f"[{k}/{len(configs)}] {config['id']} ({elapsed / 60:.1f} min so far)" + (" reused" if reused else ""))
         all_reused = all_reused and reused
         if not reused:
             wall, _ = run_command(cmd, f"run {config['id']}")
             with open(stamp, "w") as f:
-                json.dump({"command": cmd, "wall_s": wall}, f)
+                json.dump({"command": cmd, "wall_s": wall, "build": build}, f)
         with open(stamp) as f:
             wall = json.load(f)["wall_s"]
         row, per, _ = measure(outdir, model, config)
