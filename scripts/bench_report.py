@@ -257,7 +257,9 @@ def section(results, machine, root):
         for b in bench:
             errs = "; ".join(f"{k} = {fmt(v)}" for k, v in b.items()
                              if k.endswith(("_mm", "_error")))
-            rows.append([b["muscle"], b["benchmark"], b["time_ms"], b.get("iterations", float("nan")), errs])
+            parts = " / ".join(fmt(b.get(k, float("nan"))) for k in ("predict_ms", "descent_ms", "volume_ms",
+                                                                      "topology_ms"))
+            rows.append([b["muscle"], b["benchmark"], b["time_ms"], parts, b.get("iterations", float("nan")), errs])
         lines += ["### Rigid motion and restore (core benchmark `rbfmuscle_bench`)", "",
                   "From benchmarks/deformer_bench.cpp on each muscle's cached surface (argument: quadrature points; "
                   "attachments at the highest and lowest centres). Rigid: both bones move by one rigid motion "
@@ -265,7 +267,8 @@ def section(results, machine, root):
                   "frame and back in the next; the centres must return to rest. Time: wall time of the measured "
                   "frame. Executable built " + bench[0].get("built", "(time unknown)") + " from the working tree "
                   "(the dynamics may be newer than the host's).", "",
-                  table(["muscle", "benchmark/quadrature", "ms", "iterations", "errors"], rows), ""]
+                  table(["muscle", "benchmark/quadrature", "ms", "predict / descent / volume / topology ms",
+                         "iterations", "errors"], rows), ""]
 
     # Spread.
     reps = [r for r in results if r["kind"] in ("base", "repeat")]

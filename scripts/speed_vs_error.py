@@ -316,7 +316,7 @@ def core_benchmarks(host, model):
             row = {"muscle": muscle["name"], "benchmark": b["name"].split("/iterations")[0],
                    "built": datetime.datetime.utcfromtimestamp(os.path.getmtime(bench)).strftime("%H:%M UTC"),
                    "time_ms": b["real_time"] if b.get("time_unit") == "ms" else float("nan")}
-            row.update({k: v for k, v in b.items() if k.endswith(("_mm", "_error")) or k in ("iterations",)})
+            row.update({k: v for k, v in b.items() if k.endswith(("_mm", "_error", "_ms")) or k in ("iterations",)})
             rows.append(row)
     return rows
 
