@@ -66,6 +66,18 @@ def read_rbf_metrics(path):
     return {}
 
 
+def read_rbf_settings(path, without=("max_centres",)):
+    """The fit settings of a .rbf file (its `settings k=v ...` line) as a dict, less `without`."""
+    with open(path) as f:
+        for line in f:
+            if line.startswith("settings "):
+                pairs = (w.split("=", 1) for w in line.split()[1:] if "=" in w)
+                return {k: v for k, v in pairs if k not in without}
+            if line.startswith("centres "):
+                break
+    return {}
+
+
 def read_vtp(path):
     """(points N×3, triangles M×3 int, polylines list of int arrays) of an ASCII .vtp file."""
     root = ET.parse(path).getroot()

@@ -109,7 +109,14 @@ class SurfaceCache:
         stem = os.path.splitext(os.path.basename(muscle["mesh"]))[0]
         target = os.path.join(self.directory, f"{stem}_{centres}.rbf")
         if os.path.exists(target):
-            return target
+            # Refit when the model's own surface was fitted with other settings (the fit
+            # defaults changed): the sweep compares surfaces from one fitting method.
+            if not muscle["surface"] or not os.path.exists(muscle["surface"]) or \
+                    bench_io.read_rbf_settings(target) == bench_io.read_rbf_settings(muscle["surface"]):
+                return target
+            log(f"  {os.path.relpath(target, ROOT)} was fitted with other settings than "
+                f"{os.path.relpath(muscle['surface'], ROOT)}: refitting")
+            os.remove(target)
         if centres == muscle["centres"] and muscle["surface"] and os.path.exists(muscle["surface"]):
             shutil.copyfile(muscle["surface"], target)  # the model's own cached fit
             return target
@@ -387,9 +394,12 @@ def main():
         if not reused:
             wall, _ = run_command(cmd, f"run {config['id']}")
             with open(stamp, "w") as f:
-                json.dump({"command": cmd, "wall_s": wall, "build": build}, f)
+                # The fit figures of the surfaces this run used, as they were when it ran.
+                json.dump({"command": cmd, "wall_s": wall, "build": build,
+                           "surfaces": surface_metrics(model, cache, config)}, f)
         with open(stamp) as f:
-            wall = json.load(f)["wall_s"]
+            stamp_data = json.load(f)
+        wall = stamp_data["wall_s"]
         row, per, _ = measure(outdir, model, config)
         row.update({"id": config["id"], "knob": config["knob"], "value": config["value"], "kind": config["kind"],
                     "wall_s": wall, "motion": os.path.basename(motions[config["motion"]]),
@@ -397,7 +407,8 @@ def main():
         for name, n in centres.items():
             per[name]["centres"] = n
         row["settings"] = effective_settings(model, props, config, centres)
-        for name, m in surface_metrics(model, cache, config).items():
+        surfaces = stamp_data["surfaces"] if "surfaces" in stamp_data else surface_metrics(model, cache, config)
+        for name, m in surfaces.items():
             per[name]["surface_mean_mm"] = m.get("mean_distance_mm", float("nan"))
             per[name]["surface_max_mm"] = m.get("max_distance_mm", float("nan"))
             per[name]["jaccard"] = m.get("jaccard", float("nan"))
