@@ -30,6 +30,9 @@ TopologyGuard::TopologyGuard(std::vector<bool> free_mask, Eigen::VectorXd max_ab
   if (settings.max_rounds < 1) {
     throw std::invalid_argument("TopologyGuard: max_rounds " + std::to_string(settings.max_rounds) + ", expected >= 1");
   }
+  if (settings.bridge_nodes < 1) {
+    throw std::invalid_argument("TopologyGuard: bridge_nodes " + std::to_string(settings.bridge_nodes) + ", expected >= 1");
+  }
   if (!(settings.margin >= 0.0) || !std::isfinite(settings.margin)) {
     throw std::invalid_argument("TopologyGuard: margin " + std::to_string(settings.margin) + ", expected >= 0");
   }
@@ -139,6 +142,73 @@ int TopologyGuard::countPieces(const GaussianField& field, const Eigen::AlignedB
   return static_cast<int>(piece_size_.size());
 }
 
+bool TopologyGuard::changeValueAt(const GaussianField& field, const Eigen::Vector3d& x_mm, double change,
+                                  Eigen::VectorXd& weights, TopologyReport& report) {
+  field.findActiveCentres(x_mm, active_);
+  // The free centres active at x; only if there are none, the attached ones too.
+  for (const bool free_only : {true, false}) {
+    double norm = 0.0;  // Σ |λ| φ²
+    for (int a = 0; a < active_.size(); ++a) {
+      const int k = active_.indices[static_cast<size_t>(a)];
+      const double phi = active_.phi[static_cast<size_t>(a)];
+      if (!free_only || free_mask_[static_cast<size_t>(k)]) norm += std::abs(weights(k)) * phi * phi;
+    }
+    if (!(norm > 0.0)) continue;
+    for (int a = 0; a < active_.size(); ++a) {
+      const int k = active_.indices[static_cast<size_t>(a)];
+      if (free_only && !free_mask_[static_cast<size_t>(k)]) continue;
+      // A weight changes by Δf |λ| φ / Σ|λ|φ², never changes sign (the fit's sign rule),
+      // by at most |λ| per round and never beyond its limit (far centres alone would
+      // otherwise need huge weights).
+      const double step = std::clamp(change * active_.phi[static_cast<size_t>(a)] / norm, -1.0, 1.0);
+      const double updated = weights(k) + step * std::abs(weights(k));
+      const double limit = max_abs_weights_(k);
+      weights(k) = weights(k) > 0.0 ? std::clamp(updated, 0.0, limit) : std::clamp(updated, -limit, 0.0);
+      ++report.weights_changed;
+    }
+    return true;
+  }
+  return false;
+}
+
+Eigen::Vector3d TopologyGuard::findGap(const GaussianField& field, int island, int body) const {
+  // Closest pair of nodes (island, body), the body searched within the island's box
+  // grown by kReach_mm; then the lowest point of f on the segment between them.
+  constexpr double kReach_mm = 40.0;
+  Eigen::AlignedBox3d island_box;
+  for (const std::int64_t id : inside_ids_)
+    if (piece_of_node_[static_cast<size_t>(id)] == island) island_box.extend(grid_.node(id));
+  const Eigen::AlignedBox3d search(island_box.min().array() - kReach_mm, island_box.max().array() + kReach_mm);
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d from = island_box.center(), to = island_box.center();
+  for (const std::int64_t b : inside_ids_) {
+    if (piece_of_node_[static_cast<size_t>(b)] != body) continue;
+    const Eigen::Vector3d xb = grid_.node(b);
+    if (!search.contains(xb)) continue;
+    for (const std::int64_t a : inside_ids_) {
+      if (piece_of_node_[static_cast<size_t>(a)] != island) continue;
+      const double d2 = (grid_.node(a) - xb).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        from = grid_.node(a);
+        to = xb;
+      }
+    }
+  }
+  const int steps = std::max(2, static_cast<int>(std::ceil(2.0 * std::sqrt(best) / grid_.cell_mm)));
+  Eigen::Vector3d lowest = from;
+  double lowest_value = std::numeric_limits<double>::infinity();
+  for (int i = 1; i < steps; ++i) {
+    const Eigen::Vector3d x = from + (to - from) * (double(i) / steps);
+    const double v = field.calcValue(x);
+    if (v < lowest_value) {
+      lowest_value = v;
+      lowest = x;
+    }
+  }
+  return lowest;
+}
+
 TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3d& box_mm) {
   TopologyReport report;
   if (!settings_.enabled) return report;
@@ -166,38 +236,22 @@ TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3
       report.stop_reason = TopologyStop::kRoundCap;
       break;
     }
-    const auto body = std::max_element(piece_size_.begin(), piece_size_.begin() + pieces) - piece_size_.begin();
+    const int body = static_cast<int>(std::max_element(piece_size_.begin(), piece_size_.begin() + pieces) -
+                                      piece_size_.begin());
     bool changed = false;
     for (int piece = 0; piece < static_cast<int>(piece_size_.size()); ++piece) {
       if (piece == body) continue;
       const std::int64_t node = piece_top_[static_cast<size_t>(piece)];
-      // Islands go down to −margin, cavities up to +margin.
       const double value = value_of_node_[static_cast<size_t>(node)];
-      const double change = piece < pieces ? -(value + settings_.margin) : settings_.margin - value;
-      field.findActiveCentres(grid_.node(node), active_);
-      // The free centres active at x*; only if there are none, the attached ones too.
-      for (const bool free_only : {true, false}) {
-        double norm = 0.0;  // Σ |λ| φ²
-        for (int a = 0; a < active_.size(); ++a) {
-          const int k = active_.indices[static_cast<size_t>(a)];
-          const double phi = active_.phi[static_cast<size_t>(a)];
-          if (!free_only || free_mask_[static_cast<size_t>(k)]) norm += std::abs(weights(k)) * phi * phi;
-        }
-        if (!(norm > 0.0)) continue;
-        for (int a = 0; a < active_.size(); ++a) {
-          const int k = active_.indices[static_cast<size_t>(a)];
-          if (free_only && !free_mask_[static_cast<size_t>(k)]) continue;
-          // A weight changes by Δf |λ| φ / Σ|λ|φ², never changes sign (the fit's sign rule),
-          // by at most |λ| per round and never beyond its limit (far centres alone would
-          // otherwise need huge weights).
-          const double step = std::clamp(change * active_.phi[static_cast<size_t>(a)] / norm, -1.0, 1.0);
-          const double updated = weights(k) + step * std::abs(weights(k));
-          const double limit = max_abs_weights_(k);
-          weights(k) = weights(k) > 0.0 ? std::clamp(updated, 0.0, limit) : std::clamp(updated, -limit, 0.0);
-          ++report.weights_changed;
-          changed = true;
-        }
-        break;
+      if (piece >= pieces) {  // cavity: its lowest node up to +margin
+        changed |= changeValueAt(field, grid_.node(node), settings_.margin - value, weights, report);
+      } else if (piece_size_[static_cast<size_t>(piece)] < settings_.bridge_nodes) {  // crumb: top down to −margin
+        changed |= changeValueAt(field, grid_.node(node), -(value + settings_.margin), weights, report);
+        ++report.islands_removed;
+      } else {  // a piece of muscle: the lowest point between it and the body up to +margin
+        const Eigen::Vector3d gap = findGap(field, piece, body);
+        changed |= changeValueAt(field, gap, settings_.margin - field.calcValue(gap), weights, report);
+        ++report.islands_bridged;
       }
     }
     if (!changed) {

@@ -35,6 +35,10 @@ struct TopologySettings {
   /// follows (which moves b by a few tenths at 80° flexion) does not bring them back:
   /// on the gluteus maximus at 10° steps, 0.05 left one island at 80°, 0.25 none.
   double margin = 0.25;
+  /// Islands of at least this many nodes are pieces of muscle (at the 2 mm default,
+  /// 8 nodes ≈ 64 mm³, e.g. an insertion pinched off the belly) and are joined back to
+  /// the body; smaller ones are crumbs and are removed. ≥ 1.
+  std::int64_t bridge_nodes = 8;
 };
 
 /// Why the guard stopped.
@@ -54,6 +58,8 @@ struct TopologyReport {
   int cavities_found = 0;    ///< enclosed pieces of {f ≤ 0} (bubbles) at the first look
   int defects_left = 0;      ///< islands + cavities at the last look
   int rounds = 0;            ///< looks at the grid (changes + 1 when any)
+  int islands_removed = 0;   ///< crumb removals made (over all rounds)
+  int islands_bridged = 0;   ///< bridge steps made (over all rounds)
   int weights_changed = 0;   ///< weight changes made (0: the field is untouched)
   std::int64_t grid_nodes = 0;    ///< nodes of the grid
   TopologyStop stop_reason = TopologyStop::kDisabled;
@@ -66,21 +72,25 @@ struct TopologyReport {
 /// extractIsoSurface, whose box-face nodes count as outside) by calcValuesOnGrid, and
 /// labels the pieces of inside nodes connected along the edges of its Kuhn tetrahedra
 /// (offsets in {0, 1}³ \ {0} and their negatives: 14 neighbours), which are the pieces
-/// the extracted surface bounds. Every piece but the largest is an island; every piece of {f ≤ 0}
-/// not joined to the box faces is a cavity. At
-/// the island's highest node (the cavity's lowest) x* with value f*, the free centres
-/// active at x* (the attached ones only when no free one is) change their weights by
-/// the smallest change in Σ Δλₖ²/|λₖ| that brings f(x*) to ∓margin:
-///   Δλₖ = Δf |λₖ| φₖ(x*) / Σⱼ |λⱼ| φⱼ(x*)²,  Δf = −(f* + margin) or margin − f*,
+/// the extracted surface bounds. Every piece but the largest is an island; every piece
+/// of {f ≤ 0} not joined to the box faces is a cavity. Each defect gets one change of f at one
+/// point x*: a cavity is raised to +margin at its lowest node; an island smaller than
+/// bridge_nodes (a crumb) is lowered to −margin at its highest node; a larger island
+/// is a piece of muscle and is joined back: x* is the lowest point of f on the segment
+/// between the closest (island, body) pair of nodes, raised to +margin. The change is
+/// made through the weights of the free centres active at x* (the attached ones only
+/// when no free one is), by the smallest change in Σ Δλₖ²/|λₖ| that makes f(x*) change
+/// by Δf:
+///   Δλₖ = Δf |λₖ| φₖ(x*) / Σⱼ |λⱼ| φⱼ(x*)²,
 /// clamped to at most |λₖ| per round, to |λₖ| ≤ its limit, and so no weight changes
-/// sign (the fit's sign rule), which acts most on the
-/// centres that peak at x* and little on wide ones that also carry the body. Rounds
-/// repeat until no defect is left or the cap. Deterministic (islands in label order, centres ascending).
+/// sign (the fit's sign rule); it acts most on the centres that peak at x* and little
+/// on wide ones that also carry the body. Rounds repeat until no defect is left or the
+/// cap. Deterministic (defects in label order, centres ascending).
 class TopologyGuard {
  public:
   /// @param free_mask size N, true for the free centres (changed first)
   /// @param max_abs_weights size N, ≥ 0: |λₖ| never goes above this (the deformer gives
-  ///   twice the rest weight, so repeated fills over many frames cannot grow a weight
+  ///   2|λₖ⁰| + mean |λ⁰|, so repeated fills over many frames cannot grow a weight
   ///   without bound)
   /// @throws std::invalid_argument for bad settings (names the field) or limits.
   TopologyGuard(std::vector<bool> free_mask, Eigen::VectorXd max_abs_weights, const TopologySettings& settings);
@@ -98,6 +108,11 @@ class TopologyGuard {
   const TopologySettings& getSettings() const { return settings_; }
 
  private:
+  /// Changes f(x) by `change` through `weights` (see class comment); false if no centre is active at x.
+  bool changeValueAt(const GaussianField& field, const Eigen::Vector3d& x_mm, double change, Eigen::VectorXd& weights,
+                     TopologyReport& report);
+  /// The lowest point of f on the segment joining the closest nodes of `island` and `body`.
+  Eigen::Vector3d findGap(const GaussianField& field, int island, int body) const;
   /// Evaluates the grid, labels the pieces of {f > 0} and then the cavities (appended
   /// to piece_size_/piece_top_); returns the number of pieces of {f > 0}.
   int label(const GaussianField& field, const Eigen::AlignedBox3d& box_mm);

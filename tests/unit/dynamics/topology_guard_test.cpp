@@ -38,6 +38,7 @@ TEST(TopologyGuard, LowersAnIslandAndLeavesTheBody) {
   TopologyGuard guard({true, true}, kLimits, TopologySettings{});
   const TopologyReport r = guard.run(field, kBox);
   EXPECT_EQ(r.islands_found, 1);
+  EXPECT_EQ(r.islands_removed, 1);  // a crumb of a node or two, below bridge_nodes
   EXPECT_EQ(r.cavities_found, 0);
   EXPECT_EQ(r.defects_left, 0);
   EXPECT_EQ(r.stop_reason, TopologyStop::kOnePiece) << toString(r.stop_reason);
@@ -48,6 +49,25 @@ TEST(TopologyGuard, LowersAnIslandAndLeavesTheBody) {
   EXPECT_EQ(checkMesh(after).components, 1);
   EXPECT_NEAR(calcVolume(after), body_volume, 1e-3 * body_volume);
   EXPECT_EQ(guard.countPieces(field, kBox), 1);
+}
+
+TEST(TopologyGuard, JoinsAPieceOfMuscleBackInsteadOfRemovingIt) {
+  // Two spheres of radius ~10 mm, centres 30 mm apart: f(0) = 2·13.6·e^{−2.25} − 5 < 0.
+  Eigen::Matrix3Xd xi(3, 2);
+  xi << -15.0, 15.0, 0.0, 0.0, 0.0, 0.0;
+  const double lambda = 5.0 * std::exp(1.0);
+  GaussianField field(-5.0, xi, Eigen::Vector2d(lambda, lambda), Eigen::Vector2d(0.01, 0.01));
+  ASSERT_EQ(checkMesh(extract(field)).components, 2);
+  TopologyGuard guard({true, true}, Eigen::Vector2d(3.0 * lambda, 3.0 * lambda), TopologySettings{});
+  const TopologyReport r = guard.run(field, kBox);
+  EXPECT_EQ(r.islands_found, 1);
+  EXPECT_GT(r.islands_bridged, 0);
+  EXPECT_EQ(r.islands_removed, 0);
+  EXPECT_EQ(r.stop_reason, TopologyStop::kOnePiece) << toString(r.stop_reason);
+  EXPECT_EQ(checkMesh(extract(field)).components, 1);
+  EXPECT_GT(field.calcValue(Eigen::Vector3d(-15.0, 0.0, 0.0)), 0.0);  // both pieces kept
+  EXPECT_GT(field.calcValue(Eigen::Vector3d(15.0, 0.0, 0.0)), 0.0);
+  EXPECT_GT(field.calcValue(Eigen::Vector3d::Zero()), 0.0);             // joined in between
 }
 
 TEST(TopologyGuard, FillsACavity) {
@@ -102,6 +122,9 @@ TEST(TopologyGuard, RejectsBadSettingsAndSizes) {
   EXPECT_THROW(TopologyGuard({true}, Eigen::VectorXd::Ones(1), s), std::invalid_argument);
   s = TopologySettings{};
   s.max_rounds = 0;
+  EXPECT_THROW(TopologyGuard({true}, Eigen::VectorXd::Ones(1), s), std::invalid_argument);
+  s = TopologySettings{};
+  s.bridge_nodes = 0;
   EXPECT_THROW(TopologyGuard({true}, Eigen::VectorXd::Ones(1), s), std::invalid_argument);
   s = TopologySettings{};
   s.margin = -1.0;
