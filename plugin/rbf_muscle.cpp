@@ -190,6 +190,7 @@ void RBFMuscle::initializeContacts(const Skeleton& skeleton) {
   ContactSettings settings;
   settings.tolerance_mm = contact_tolerance_mm.get();
   settings.max_substeps = max_substeps.get();
+  settings.max_iterations = contact_iterations_cap.get();
   try {
     contact_resolver_ = std::make_unique<ContactResolver>(std::move(bones), field, rest_probes_M_, std::move(free_centres),
                                                           settings);

@@ -44,6 +44,7 @@
 ///                                         default: on the hip scenes the response does not
 ///                                         converge for the iliacus against the pelvis proxy (issue 5)
 ///   contact_tolerance_mm (double, 0.5)    accepted penetration beyond the rest overlap
+///   contact_max_iterations (int, 10)      cap on response iterations per (sub-)step
 ///   max_substeps (int, 8)                 cap on sub-steps per frame of the tunnelling guard
 ///   Contacts (core/collision/contact_resolver.h): each probe may stay as deep inside a bone as
 ///   it was at rest (documented rest overlap: the pelvis proxy overlaps the iliacus by up to
@@ -124,6 +125,8 @@ class RBFMuscle final : public Component {
                                   "push free centres out of the bones (false: measure only)"};
   Property<double> contact_tolerance_mm{this, "contact_tolerance_mm", 0.5,
                                         "accepted penetration beyond the rest overlap (mm)", PropertyRange{1e-3, 100.0}};
+  Property<int> contact_iterations_cap{this, "contact_max_iterations", 10,
+                                       "cap on contact response iterations per (sub-)step", PropertyRange{0, 10000}};
   Property<int> max_substeps{this, "max_substeps", 8, "cap on sub-steps per frame (tunnelling guard)",
                              PropertyRange{1, 1000}};
   BodySocket origin_body{this, "origin_body", "bone of the origin attachment"};
