@@ -270,7 +270,7 @@ void RBFMuscle::update(const FrameState& state) {
     result_.collision_ms += msSince(t);
   }
   result_.substeps = steps;
-  double descent_ms = 0.0;
+  double descent_ms = 0.0, predict_ms = 0.0, volume_ms = 0.0, guard_ms = 0.0, islands = 0.0;
   for (int s = 1; s <= steps; ++s) {
     if (s == steps) {
       step(bone_motion_M_, X_MB_);
@@ -284,7 +284,12 @@ void RBFMuscle::update(const FrameState& state) {
         step_X_MB_[b] = interpolateScrew(previous_X_MB_[b], X_MB_[b], fraction);
       step(step_motion_M_, step_X_MB_);
     }
-    descent_ms += deformer_->getResult().descent_ms;
+    const DeformResult& sub = deformer_->getResult();
+    descent_ms += sub.descent_ms;
+    predict_ms += sub.predict_ms;
+    volume_ms += sub.volume_ms;
+    guard_ms += sub.topology_ms;
+    islands += sub.islands_found;
   }
   previous_motion_M_ = bone_motion_M_;
   previous_X_MB_ = X_MB_;
@@ -294,6 +299,11 @@ void RBFMuscle::update(const FrameState& state) {
   result_.curvature_cost = r.curvature_cost;
   result_.iterations = r.iterations;
   result_.descent_ms = descent_ms;
+  result_.predict_ms = predict_ms;
+  result_.volume_ms = volume_ms;
+  result_.guard_ms = guard_ms;
+  result_.islands_removed = islands;
+  result_.islands_left = r.islands_left;
   if (fibre_tracker_) {
     const FibreFrame& f = fibre_tracker_->update(deformer_->getField(), bone_motion_M_);
     result_.fiber_lengths_mm = f.lengths_mm;

@@ -56,7 +56,8 @@
 ///   same dual-quaternion blend as the quadrature points and projected onto f = 0.
 ///   socket_origin_body, socket_insertion_body: the bones
 /// Outputs: volume_mm3, volume_ratio, curvature_cost, iterations (descent),
-///   update_ms, descent_ms, attached_centres;
+///   update_ms, and of it predict_ms, descent_ms, volume_ms, guard_ms (summed over sub-steps);
+///   islands_removed, islands_left (topology guard, core/dynamics/topology_guard.h); attached_centres;
 ///   fiber_length_mm (vector, one per fibre, columns fiber_length_mm_i), fiber_length_mean_mm,
 ///   fiber_length_min_mm, fiber_length_max_mm, fiber_length_normalised (mean / rest mean),
 ///   fiber_projections (fibre points pushed back inside this frame; core/fibres/fibre_tracker.h),
@@ -138,6 +139,14 @@ class RBFMuscle final : public Component {
   Output iterations{this, "iterations", "1", "descent iterations this frame", [this] { return result_.iterations; }};
   Output update_ms{this, "update_ms", "ms", "wall time of this muscle's update", [this] { return result_.update_ms; }};
   Output descent_ms{this, "descent_ms", "ms", "wall time of the descent", [this] { return result_.descent_ms; }};
+  Output predict_ms{this, "predict_ms", "ms", "wall time of the prediction from the bones", [this] { return result_.predict_ms; }};
+  Output volume_ms{this, "volume_ms", "ms", "wall time of the volume steps", [this] { return result_.volume_ms; }};
+  Output guard_ms{this, "guard_ms", "ms", "wall time of the topology guard (islands, cavities)",
+                  [this] { return result_.guard_ms; }};
+  Output islands_removed{this, "islands_removed", "1", "islands and cavities the topology guard removed this frame",
+                         [this] { return result_.islands_removed; }};
+  Output islands_left{this, "islands_left", "1", "islands and cavities left (0 unless the guard hit its cap)",
+                      [this] { return result_.islands_left; }};
   Output attached_centres{this, "attached_centres", "1", "centres moving rigidly with a bone",
                           [this] { return result_.attached_centres; }};
 
@@ -188,6 +197,11 @@ class RBFMuscle final : public Component {
     double iterations = kNaN;
     double update_ms = kNaN;
     double descent_ms = kNaN;
+    double predict_ms = kNaN;
+    double volume_ms = kNaN;
+    double guard_ms = kNaN;
+    double islands_removed = kNaN;
+    double islands_left = kNaN;
     double attached_centres = kNaN;
     Eigen::VectorXd fiber_lengths_mm;  ///< per fibre (mm); size fixed in initialize
     double fiber_length_mean_mm = kNaN;
