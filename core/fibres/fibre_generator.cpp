@@ -22,6 +22,7 @@ void checkSettings(const FibreSettings& s) {
   if (!(s.centre_preference >= 0)) fail("centre_preference must be ≥ 0, got " + std::to_string(s.centre_preference));
   if (!(s.spreading >= 0) || !std::isfinite(s.spreading)) fail("spreading must be ≥ 0, got " + std::to_string(s.spreading));
   if (s.smoothing_iterations < 0) fail("smoothing_iterations must be ≥ 0, got " + std::to_string(s.smoothing_iterations));
+  if (!std::isfinite(s.end_depth)) fail("end_depth must be finite, got " + std::to_string(s.end_depth));
   checkProjectionSettings(s.projection);
 }
 
@@ -32,19 +33,25 @@ double distanceToRegion(const Eigen::Vector3d& p, const Eigen::Matrix3Xd& region
 
 /// N interior nodes spread over the attachment near `region` (file comment, step 2).
 std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& region, int count, double radius,
-                            const char* which, double& used_radius) {
+                            double end_depth, const char* which, double& used_radius) {
   if (region.cols() == 0 || !region.allFinite())
     throw std::invalid_argument(std::string("generateFibres: the ") + which + " region needs ≥ 1 finite point");
   const Eigen::Index n = grid.nodes_mm.cols();
   Eigen::VectorXd distance(n);
   for (Eigen::Index a = 0; a < n; ++a) distance(a) = distanceToRegion(grid.nodes_mm.col(a), region);
-  std::vector<int> candidates;
+  std::vector<int> candidates, deep;
   for (int growth = 0; growth <= 8; ++growth, radius *= 1.5) {
     candidates.clear();
+    deep.clear();
     for (Eigen::Index a = 0; a < n; ++a)
-      if (distance(a) <= radius) candidates.push_back(static_cast<int>(a));
+      if (distance(a) <= radius) {
+        candidates.push_back(static_cast<int>(a));
+        if (grid.values(a) >= end_depth) deep.push_back(static_cast<int>(a));
+      }
     if (static_cast<int>(candidates.size()) >= count) break;
   }
+  // Deep nodes only, when there are enough of them at this radius.
+  if (static_cast<int>(deep.size()) >= count) candidates.swap(deep);
   if (static_cast<int>(candidates.size()) < count)
     throw std::invalid_argument(std::string("generateFibres: only ") + std::to_string(candidates.size()) +
                                 " interior grid nodes near the " + which + " region (radius " +
@@ -156,9 +163,9 @@ RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& or
   fibres.count = settings.count;
   fibres.segments = settings.segments;
   const std::vector<int> starts = chooseEnds(grid, origin_region_mm, settings.count, settings.attachment_radius_mm,
-                                             "origin", fibres.attachment_radius_origin_mm);
+                                             settings.end_depth, "origin", fibres.attachment_radius_origin_mm);
   const std::vector<int> ends = chooseEnds(grid, insertion_region_mm, settings.count, settings.attachment_radius_mm,
-                                           "insertion", fibres.attachment_radius_insertion_mm);
+                                           settings.end_depth, "insertion", fibres.attachment_radius_insertion_mm);
   Eigen::Matrix3Xd p0(3, settings.count), p1(3, settings.count);
   for (int i = 0; i < settings.count; ++i) {
     p0.col(i) = grid.nodes_mm.col(starts[static_cast<size_t>(i)]);

@@ -13,25 +13,78 @@ void checkProjectionSettings(const ProjectionSettings& s) {
     throw std::invalid_argument("ProjectionSettings: max_step_mm must be > 0, got " + std::to_string(s.max_step_mm));
   if (s.max_steps < 1)
     throw std::invalid_argument("ProjectionSettings: max_steps must be ≥ 1, got " + std::to_string(s.max_steps));
+  if (s.max_halvings < 0)
+    throw std::invalid_argument("ProjectionSettings: max_halvings must be ≥ 0, got " + std::to_string(s.max_halvings));
 }
 
-int projectInside(const GaussianField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm) {
+ProjectionResult projectInside(const GaussianField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm) {
   checkProjectionSettings(settings);
   const double target = 2.0 * settings.margin_mm;
-  int steps = 0;
-  double f = field.calcValue(p_mm);
-  while (f < settings.margin_mm && steps < settings.max_steps) {
+  ProjectionResult result;
+  result.value = field.calcValue(p_mm);
+  if (result.value >= settings.margin_mm) return result;
+  while (result.steps < settings.max_steps) {
     const Eigen::Vector3d g = field.calcGradient(p_mm);
     const double g2 = g.squaredNorm();
-    if (g2 < 1e-24) break;
-    Eigen::Vector3d delta = (target - f) / g2 * g;
+    if (g2 < 1e-24) {
+      result.stop = ProjectionStop::kNoAscent;
+      return result;
+    }
+    Eigen::Vector3d delta = (target - result.value) / g2 * g;
     const double length = delta.norm();
     if (length > settings.max_step_mm) delta *= settings.max_step_mm / length;
-    p_mm += delta;
-    ++steps;
-    f = field.calcValue(p_mm);
+    // Backtracking: halve the step until f rises.
+    bool rose = false;
+    for (int h = 0; h <= settings.max_halvings && !rose; ++h, delta *= 0.5) {
+      const double f = field.calcValue(p_mm + delta);
+      if (f > result.value) {
+        p_mm += delta;
+        result.value = f;
+        rose = true;
+      }
+    }
+    if (!rose) {
+      result.stop = ProjectionStop::kNoAscent;
+      return result;
+    }
+    ++result.steps;
+    if (result.value >= settings.margin_mm) {
+      result.stop = ProjectionStop::kReached;
+      return result;
+    }
   }
-  return steps;
+  result.stop = ProjectionStop::kStepCap;
+  return result;
+}
+
+double placeBetweenInsideNeighbours(const GaussianField& field, const ProjectionSettings& settings,
+                                    const Eigen::Vector3d& a_mm, const Eigen::Vector3d& b_mm, double t,
+                                    Eigen::Vector3d& p_mm, int samples) {
+  const double fa = field.calcValue(a_mm), fb = field.calcValue(b_mm);
+  if (!(fa > 0) || !(fb > 0))
+    throw std::invalid_argument("placeBetweenInsideNeighbours: the neighbours must be inside (f > 0), got f(a) = " +
+                                std::to_string(fa) + ", f(b) = " + std::to_string(fb));
+  if (!(t > 0 && t < 1))
+    throw std::invalid_argument("placeBetweenInsideNeighbours: t must be in (0, 1), got " + std::to_string(t));
+  if (samples < 1)
+    throw std::invalid_argument("placeBetweenInsideNeighbours: samples must be ≥ 1, got " + std::to_string(samples));
+  const Eigen::Vector3d q = a_mm + t * (b_mm - a_mm);
+  Eigen::Vector3d best = q;
+  double best_f = field.calcValue(q);
+  if (best_f <= 0) {
+    const Eigen::Vector3d& end = t <= 0.5 ? a_mm : b_mm;
+    for (int k = 1; k <= samples; ++k) {
+      const Eigen::Vector3d s = q + (static_cast<double>(k) / samples) * (end - q);
+      const double f = field.calcValue(s);
+      if (f > best_f) {
+        best = s;
+        best_f = f;
+      }
+      if (f >= settings.margin_mm) break;
+    }
+  }
+  p_mm = best;
+  return projectInside(field, settings, p_mm).value;
 }
 
 void calcFibreLengths(const Eigen::Matrix3Xd& points_mm, int segments, Eigen::VectorXd& out) {

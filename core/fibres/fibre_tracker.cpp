@@ -40,19 +40,42 @@ const FibreFrame& FibreTracker::update(const GaussianField& field_M,
   for (size_t b = 0; b < transforms_.size(); ++b) transforms_[b] = toDualQuaternion(bone_motion_M[b]);
   predictPoints(rest_.points_mm, weights_, transforms_, frame_.points_mm);
   const int per = rest_.segments + 1;
+  const int segments = rest_.segments;
   frame_.projected = 0;
+  frame_.placed = 0;
   frame_.outside = 0;
+  values_.resize(frame_.points_mm.cols());
+  // 1. Monotone ascent of f for every interior point below the margin.
   for (Eigen::Index c = 0; c < frame_.points_mm.cols(); ++c) {
     const int j = static_cast<int>(c % per);
-    if (j != 0 && j != rest_.segments) {
-      Eigen::Vector3d p = frame_.points_mm.col(c);
-      if (projectInside(field_M, projection_, p) > 0) {
+    Eigen::Vector3d p = frame_.points_mm.col(c);
+    if (j != 0 && j != segments) {
+      const ProjectionResult r = projectInside(field_M, projection_, p);
+      if (r.steps > 0) {
         frame_.points_mm.col(c) = p;
         ++frame_.projected;
       }
+      values_(c) = r.value;
+    } else {
+      values_(c) = field_M.calcValue(p);
     }
-    frame_.outside += field_M.calcValue(frame_.points_mm.col(c)) <= 0;
   }
+  // 2. Interior points still outside: placed from the nearest inside points of their fibre.
+  for (Eigen::Index first = 0; first < frame_.points_mm.cols(); first += per)
+    for (int j = 1; j < segments; ++j) {
+      if (values_(first + j) > 0) continue;
+      int a = j - 1, b = j + 1;
+      while (a >= 0 && !(values_(first + a) > 0)) --a;
+      while (b <= segments && !(values_(first + b) > 0)) ++b;
+      if (a < 0 || b > segments) continue;
+      Eigen::Vector3d p = frame_.points_mm.col(first + j);
+      values_(first + j) =
+          placeBetweenInsideNeighbours(field_M, projection_, frame_.points_mm.col(first + a),
+                                       frame_.points_mm.col(first + b), static_cast<double>(j - a) / (b - a), p);
+      frame_.points_mm.col(first + j) = p;
+      ++frame_.placed;
+    }
+  frame_.outside = static_cast<int>((values_.array() <= 0).count());
   calcFibreLengths(frame_.points_mm, rest_.segments, frame_.lengths_mm);
   frame_.mean_mm = frame_.lengths_mm.mean();
   frame_.min_mm = frame_.lengths_mm.minCoeff();

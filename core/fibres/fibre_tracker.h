@@ -9,8 +9,13 @@
 /// muscle's free centres and quadrature points. Per frame:
 ///  1. prediction: p ← dual-quaternion blend of the bone transforms (predictPoints);
 ///  2. projection: interior points with f < margin in the current field are pushed
-///     inside along ∇f (projectInside, bounded steps); end points are never moved off
+///     inside by a monotone ascent of f (projectInside, bounded steps: f never drops, so
+///     the point ends at the highest f on its path); end points are never moved off
 ///     their bone;
+///  2b. fallback: an interior point the ascent left at f ≤ 0 (no slope far outside, a
+///     local maximum of f outside, or the step cap) is placed from its fibre: between the
+///     nearest points before and after it with f > 0 (placeBetweenInsideNeighbours), so it
+///     ends inside wherever the muscle holds both (f > 0 guaranteed there);
 ///  3. lengths Lᵢ = Σ_j ‖p_{j+1} − p_j‖ (mm) and their mean, min, max, mean / rest mean.
 /// Each frame starts from the rest fibres (no history): the same transforms and field
 /// give the same result.
@@ -38,7 +43,8 @@ struct FibreFrame {
   double max_mm = kNaN;         ///< longest fibre (mm)
   double normalised_mean = kNaN;  ///< mean length / rest mean length
   int projected = 0;            ///< interior points pushed back inside this frame
-  int outside = 0;              ///< points (ends included) still with f ≤ 0 after the projection
+  int placed = 0;               ///< interior points placed from their fibre neighbours (step 2b)
+  int outside = 0;              ///< points (ends included) still with f ≤ 0 after steps 2 and 2b
 };
 
 /// Carries rest fibres with the bones and the current field (see file comment).
@@ -73,6 +79,7 @@ class FibreTracker {
   double rest_mean_mm_ = 0;
   std::vector<DualQuaternion> transforms_;
   FibreFrame frame_;
+  Eigen::VectorXd values_;  ///< f at every current fibre point (work array of update)
 };
 
 }  // namespace rbfmuscle
