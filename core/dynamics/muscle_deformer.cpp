@@ -89,6 +89,9 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     transforms_[b] = toDualQuaternion(bone_motion_M[b]);
   }
   auto start = std::chrono::steady_clock::now();
+  // Every frame starts from the rest weights: the guard's changes are made for this
+  // frame's shape and are not carried, so they cannot pile up over many small steps.
+  field_.setWeights(rest_field_.getWeights());
   predictCentres(rest_field_.getCentres(), attachments_, centre_weights_, transforms_, predicted_centres_mm_);
   if (settings_.warm_start && has_previous_) {
     // Previous corrected centres carried by the change of the prediction; attached
@@ -99,7 +102,6 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     field_.setCentrePositions(start_centres_mm_);
   } else {
     field_.setCentrePositions(predicted_centres_mm_);
-    field_.setWeights(rest_field_.getWeights());  // the guard may have lowered some
     field_.setOffset(rest_field_.getOffset());
   }
   previous_predicted_mm_ = predicted_centres_mm_;
