@@ -62,58 +62,61 @@ int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& 
           inside_ids_.push_back(id);
         }
       }
-  // Pieces: breadth-first over the 14 Kuhn neighbours, seeds in ascending node order.
+  // Breadth-first growth from queue_ over the 14 Kuhn neighbours inside the grid: `take`
+  // decides (and marks) whether a neighbour joins, `visit` sees every node that joined.
   static constexpr int kOffsets[7][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
-  piece_size_.clear();
-  piece_top_.clear();
-  for (const std::int64_t seed : inside_ids_) {
-    if (piece_of_node_[static_cast<size_t>(seed)] != kUnlabelled) continue;
-    const int piece = static_cast<int>(piece_size_.size());
-    piece_size_.push_back(0);
-    piece_top_.push_back(seed);
-    queue_.assign(1, seed);
-    piece_of_node_[static_cast<size_t>(seed)] = piece;
+  auto grow = [&](auto&& take, auto&& visit) {
     for (size_t q = 0; q < queue_.size(); ++q) {
       const std::int64_t id = queue_[q];
-      ++piece_size_.back();
-      if (value_of_node_[static_cast<size_t>(id)] > value_of_node_[static_cast<size_t>(piece_top_.back())])
-        piece_top_.back() = id;
-      const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
-      for (const auto& o : kOffsets) {
-        for (int sign = -1; sign <= 1; sign += 2) {
-          const std::int64_t next = nodeOf(i + sign * o[0], j + sign * o[1], k + sign * o[2]);
-          // Box-face nodes are kOutside, and no interior node's neighbour is beyond them.
-          if (piece_of_node_[static_cast<size_t>(next)] != kUnlabelled) continue;
-          piece_of_node_[static_cast<size_t>(next)] = piece;
-          queue_.push_back(next);
-        }
-      }
-    }
-  }
-  const int pieces = static_cast<int>(piece_size_.size());
-  // Cavities: pieces of {f ≤ 0} not joined to the box faces.
-  exterior_.assign(static_cast<size_t>(grid_.size()), 0);
-  auto isNegative = [&](std::int64_t id) { return piece_of_node_[static_cast<size_t>(id)] == kOutside; };
-  auto flood = [&](int mark, bool track) {
-    for (size_t q = 0; q < queue_.size(); ++q) {
-      const std::int64_t id = queue_[q];
-      if (track) {
-        ++piece_size_.back();
-        if (value_of_node_[static_cast<size_t>(id)] < value_of_node_[static_cast<size_t>(piece_top_.back())])
-          piece_top_.back() = id;
-      }
+      visit(id);
       const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
       for (const auto& o : kOffsets) {
         for (int sign = -1; sign <= 1; sign += 2) {
           const std::int64_t a = i + sign * o[0], b = j + sign * o[1], c = k + sign * o[2];
           if (a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz) continue;
           const std::int64_t next = nodeOf(a, b, c);
-          if (exterior_[static_cast<size_t>(next)] != 0 || !isNegative(next)) continue;
-          exterior_[static_cast<size_t>(next)] = static_cast<std::uint8_t>(mark);
-          queue_.push_back(next);
+          if (take(next)) queue_.push_back(next);
         }
       }
     }
+  };
+  // A new piece from `seed`, tracking its size and its extreme node (highest or lowest f).
+  auto startPiece = [&](std::int64_t seed) {
+    piece_size_.push_back(0);
+    piece_top_.push_back(seed);
+    queue_.assign(1, seed);
+  };
+  auto track = [&](bool highest) {
+    return [this, highest](std::int64_t id) {
+      ++piece_size_.back();
+      const double v = value_of_node_[static_cast<size_t>(id)];
+      const double top = value_of_node_[static_cast<size_t>(piece_top_.back())];
+      if (highest ? v > top : v < top) piece_top_.back() = id;
+    };
+  };
+  // Pieces of {f > 0}, seeds in ascending node order.
+  piece_size_.clear();
+  piece_top_.clear();
+  for (const std::int64_t seed : inside_ids_) {
+    if (piece_of_node_[static_cast<size_t>(seed)] != kUnlabelled) continue;
+    const int piece = static_cast<int>(piece_size_.size());
+    piece_of_node_[static_cast<size_t>(seed)] = piece;
+    startPiece(seed);
+    grow(
+        [&](std::int64_t next) {
+          if (piece_of_node_[static_cast<size_t>(next)] != kUnlabelled) return false;
+          piece_of_node_[static_cast<size_t>(next)] = piece;
+          return true;
+        },
+        track(true));
+  }
+  const int pieces = static_cast<int>(piece_size_.size());
+  // Cavities: pieces of {f ≤ 0} not joined to the box faces.
+  exterior_.assign(static_cast<size_t>(grid_.size()), 0);
+  auto takeNegative = [&](std::int64_t next) {
+    if (exterior_[static_cast<size_t>(next)] != 0 || piece_of_node_[static_cast<size_t>(next)] != kOutside) return false;
+    exterior_[static_cast<size_t>(next)] = 1;
+    return true;
   };
   queue_.clear();
   for (std::int64_t k = 0; k < nz; ++k)
@@ -124,15 +127,11 @@ int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& 
         exterior_[static_cast<size_t>(id)] = 1;
         queue_.push_back(id);
       }
-  flood(1, false);
-  first_cavity_ = pieces;
+  grow(takeNegative, [](std::int64_t) {});
   for (std::int64_t seed = 0; seed < grid_.size(); ++seed) {
-    if (exterior_[static_cast<size_t>(seed)] != 0 || !isNegative(seed)) continue;
-    piece_size_.push_back(0);
-    piece_top_.push_back(seed);
-    exterior_[static_cast<size_t>(seed)] = 2;
-    queue_.assign(1, seed);
-    flood(2, true);
+    if (!takeNegative(seed)) continue;
+    startPiece(seed);
+    grow(takeNegative, track(false));
   }
   return pieces;
 }

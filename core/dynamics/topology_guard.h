@@ -129,8 +129,7 @@ class TopologyGuard {
   std::vector<std::int64_t> inside_ids_;  ///< nodes with f > 0 off the box faces, ascending
   std::vector<std::int64_t> piece_size_;
   std::vector<std::int64_t> piece_top_;  ///< highest node of each piece, lowest of each cavity
-  int first_cavity_ = 0;                 ///< pieces [first_cavity_, end) are cavities
-  std::vector<std::uint8_t> exterior_;   ///< 1: joined to the box faces, 2: in a cavity
+  std::vector<std::uint8_t> exterior_;   ///< 1: a node of {f ≤ 0} already reached (from the faces or a cavity)
   std::vector<std::int64_t> queue_;
   ActiveCentres active_;
 };
