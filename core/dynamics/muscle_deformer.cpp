@@ -60,12 +60,14 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
   transforms_.assign(static_cast<size_t>(attachments.num_bones), DualQuaternion{});
   predicted_centres_mm_ = rest_centres;
   current_points_mm_ = quadrature_.points_mm;
-  // Blend weights at the rest points shifted by ±step along each axis: the weights
-  // vary with the point, so the Jacobian of the prediction needs them.
+  // The rest points shifted by ±step along each axis, and their blend weights: the
+  // weights vary with the point, so the Jacobian of the prediction needs them. Both are
+  // fixed, so they are made once here rather than every frame.
   const double step = jacobianStep();
   for (int i = 0; i < 3; ++i) {
     for (int side = 0; side < 2; ++side) {
-      Eigen::Matrix3Xd shifted = quadrature_.points_mm;
+      Eigen::Matrix3Xd& shifted = shifted_rest_mm_[static_cast<size_t>(2 * i + side)];
+      shifted = quadrature_.points_mm;
       shifted.row(i).array() += side == 0 ? step : -step;
       shifted_weights_[static_cast<size_t>(2 * i + side)] =
           calcBlendWeights(shifted, rest_centres, attachments, settings.blend_length_mm);
@@ -111,12 +113,9 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   // det ∂P/∂x by central differences of the prediction (weights of the shifted points).
   const double step = jacobianStep();
   for (int i = 0; i < 3; ++i) {
-    shifted_rest_mm_ = quadrature_.points_mm;
-    shifted_rest_mm_.row(i).array() += step;
-    predictPoints(shifted_rest_mm_, shifted_weights_[static_cast<size_t>(2 * i)], transforms_,
-                  jacobian_columns_[static_cast<size_t>(i)]);
-    shifted_rest_mm_.row(i).array() -= 2.0 * step;
-    predictPoints(shifted_rest_mm_, shifted_weights_[static_cast<size_t>(2 * i + 1)], transforms_, shifted_points_mm_);
+    const size_t plus = static_cast<size_t>(2 * i), minus = plus + 1;
+    predictPoints(shifted_rest_mm_[plus], shifted_weights_[plus], transforms_, jacobian_columns_[static_cast<size_t>(i)]);
+    predictPoints(shifted_rest_mm_[minus], shifted_weights_[minus], transforms_, shifted_points_mm_);
     jacobian_columns_[static_cast<size_t>(i)] -= shifted_points_mm_;
     jacobian_columns_[static_cast<size_t>(i)] /= 2.0 * step;
   }

@@ -27,7 +27,7 @@ struct DeformerSettings {
   QuadratureSettings quadrature;  ///< quadrature of the cost and the volume
   DescentSettings descent;        ///< descent of the free centres
   VolumeSettings volume;          ///< volume measure and correction
-  TopologySettings topology;      ///< island guard (topology_guard.h)
+  TopologySettings topology;      ///< island and cavity guard (topology_guard.h)
   double blend_length_mm = 1.0;   ///< softening length ℓ of the blend weights (attachment.h, mm), > 0
   /// Step (mm) of the central differences giving the Jacobian det ∂P/∂x of the
   /// prediction at each volume point; ≤ 0 means "h/2".
@@ -71,9 +71,10 @@ struct DeformResult {
 ///     curvature is invariant under rigid motion);
 ///  2. descent (curvature_descent.h) of the free centres, anchored at the prediction;
 ///  3. volume (volume_keeper.h): b solved so the volume equals the rest volume;
-///  4. islands (topology_guard.h): pieces that came apart from the body are lowered
-///     below zero through the weights of free centres, then step 3 runs again, and
-///     both repeat while the guard changes something (at most 5 passes, then a last count).
+///  4. one piece (topology_guard.h): through the weights of free centres, crumbs that
+///     came apart from the body are lowered below zero, larger pieces are joined back
+///     and cavities filled; then step 3 runs again, and both repeat while the guard
+///     changes something (at most 5 passes, then a last count).
 /// With warm_start (default) a frame starts from the previous frame's result carried
 /// by the change of prediction, so the result depends on the sequence of transforms
 /// (identical sequences give bitwise identical fields); without it each frame starts
@@ -148,8 +149,8 @@ class MuscleDeformer {
   bool has_previous_ = false;               ///< whether a frame was computed
   Eigen::Matrix3Xd current_points_mm_;
   Eigen::Matrix3Xd shifted_points_mm_;  ///< scratch for the Jacobian differences
-  Eigen::Matrix3Xd shifted_rest_mm_;
-  std::array<Eigen::MatrixXd, 6> shifted_weights_;  ///< B×M weights at q ± step·e_i (order +x, −x, +y, …)
+  std::array<Eigen::Matrix3Xd, 6> shifted_rest_mm_;  ///< rest points q ± step·e_i (order +x, −x, +y, …)
+  std::array<Eigen::MatrixXd, 6> shifted_weights_;   ///< B×M blend weights of shifted_rest_mm_
   std::array<Eigen::Matrix3Xd, 3> jacobian_columns_;  ///< ∂P/∂x_i at every quadrature point
   Eigen::VectorXd jacobians_;
   DeformResult result_;
