@@ -1,5 +1,7 @@
 #include "dynamics/topology_guard.h"
 
+#include "geometry/iso_surface.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -40,13 +42,10 @@ TopologyGuard::TopologyGuard(std::vector<bool> free_mask, Eigen::VectorXd max_ab
 
 int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& box_mm) {
   if (box_mm.isEmpty()) throw std::invalid_argument("TopologyGuard: empty box");
-  // The node layout of extractIsoSurface (geometry/iso_surface.cpp).
+  // The nodes of extractIsoSurface.
   grid_.origin_mm = box_mm.min();
   grid_.cell_mm = settings_.cell_mm;
-  for (int a = 0; a < 3; ++a) {
-    grid_.counts[static_cast<size_t>(a)] =
-        std::max<std::int64_t>(2, std::int64_t(std::ceil(box_mm.sizes()[a] / settings_.cell_mm - 1e-9)) + 1);
-  }
+  grid_.counts = countIsoSurfaceNodes(box_mm, settings_.cell_mm);
   const std::int64_t nx = grid_.counts[0], ny = grid_.counts[1], nz = grid_.counts[2];
   auto nodeOf = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + nx * (j + ny * k); };
   calcValuesOnGrid(field, grid_, value_of_node_);

@@ -23,10 +23,7 @@ constexpr int kTets[6][4] = {{0, 1, 3, 7}, {0, 1, 5, 7}, {0, 2, 3, 7},
 class Extractor {
  public:
   Extractor(const ScalarFieldFn& field, const Eigen::AlignedBox3d& box, double cell)
-      : field_(field), origin_(box.min()), cell_(cell) {
-    for (int k = 0; k < 3; ++k)
-      n_[k] = std::max<std::int64_t>(2, std::int64_t(std::ceil(box.sizes()[k] / cell - 1e-9)) + 1);
-  }
+      : field_(field), origin_(box.min()), cell_(cell), n_(countIsoSurfaceNodes(box, cell)) {}
 
   void checkSize() const {
     if (double(n_[0]) * double(n_[1]) * double(n_[2]) > 1e9) {
@@ -164,13 +161,20 @@ class Extractor {
   std::int64_t clipped_nodes_ = 0;
   Eigen::Vector3d origin_;
   double cell_;
-  std::int64_t n_[3];
+  std::array<std::int64_t, 3> n_;
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<std::array<int, 3>> triangles_;
   std::unordered_map<std::uint64_t, int> edge_vertex_;
 };
 
 }  // namespace
+
+std::array<std::int64_t, 3> countIsoSurfaceNodes(const Eigen::AlignedBox3d& box_mm, double cell_mm) {
+  std::array<std::int64_t, 3> n{};
+  for (int k = 0; k < 3; ++k)
+    n[static_cast<size_t>(k)] = std::max<std::int64_t>(2, std::int64_t(std::ceil(box_mm.sizes()[k] / cell_mm - 1e-9)) + 1);
+  return n;
+}
 
 TriangleMesh extractIsoSurface(const ScalarFieldFn& field, const Eigen::AlignedBox3d& box_mm,
                                double cell_mm, std::int64_t* clipped_nodes) {

@@ -1,6 +1,7 @@
 #pragma once
 /// @file
 /// Triangle mesh of the zero level set of a scalar field sampled on a regular grid.
+#include <array>
 #include <cstdint>
 #include <functional>
 
@@ -11,6 +12,12 @@ namespace rbfmuscle {
 /// Batch field evaluation: fills `values` (resized by the callee to N) with f at each
 /// column of the 3×N `points_mm`.
 using ScalarFieldFn = std::function<void(const Eigen::Matrix3Xd& points_mm, Eigen::VectorXd& values)>;
+
+/// Nodes per axis of the grid extractIsoSurface samples over `box_mm` with spacing
+/// `cell_mm`: max(2, ⌈size/cell⌉ + 1) (the last layer may pass box.max() by less than a
+/// cell). Anything that must see the same nodes as the extraction (the topology guard)
+/// uses this.
+std::array<std::int64_t, 3> countIsoSurfaceNodes(const Eigen::AlignedBox3d& box_mm, double cell_mm);
 
 /// Extracts the surface {f = 0} of `field`, with inside = {f > 0}, as a mesh wound outward
 /// (normals point towards decreasing f).
