@@ -1,4 +1,4 @@
-"""Readers shared by scripts/speed_vs_error.py and scripts/render_hip.py.
+"""Readers (and the report-section writer) shared by scripts/speed_vs_error.py and scripts/render_hip.py.
 
 Python 3 with numpy (Debian: python3-numpy). Formats are the ones the host writes
 (see core/framework/reporter.* and core/framework/frame_geometry.*):
@@ -206,3 +206,19 @@ def write_motion(path, name, angles_deg, frame_time_s=1.0 / 30.0):
         f.write("time\thip_flexion_r\thip_adduction_r\thip_rotation_r\n")
         for k, a in enumerate(angles_deg):
             f.write(f"{k * frame_time_s!r}\t{float(a)!r}\t0.0\t0.0\n")
+
+
+def replace_marked_section(path, begin, end, block, preamble):
+    """Puts `block` (text that starts with `begin` and ends with `end`) into the Markdown
+    file `path`: in place of the text between the markers when both are there, else
+    appended; a missing file starts with `preamble`. The file is written beside and
+    renamed into place, so it is never left half written."""
+    text = open(path).read() if os.path.exists(path) else preamble
+    if begin in text and end in text:
+        text = text[:text.index(begin)] + block + text[text.index(end) + len(end):]
+    else:
+        text = text.rstrip("\n") + "\n\n" + block + "\n"
+    partial = path + ".partial"
+    with open(partial, "w") as f:
+        f.write(text)
+    os.replace(partial, path)

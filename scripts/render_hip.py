@@ -185,21 +185,14 @@ def plot_fibres(model, sto, report):
 
 
 def update_readme(report, run_dir, motion, command, pictures):
-    readme = os.path.join(report, "README.md")
-    text = open(readme).read() if os.path.exists(readme) else "# rbfmuscle report\n\n"
     body = [BEGIN, "", "## Pictures", "",
             f"From the run in `{os.path.relpath(run_dir, ROOT)}` ({motion}); reproduce with "
             f"`{command}` (it runs `rbfmuscle run MODEL --motion MOTION --frames-mesh`; `--run OUTDIR` reuses a "
             "run). Bones: pelvis at rest, femur moved by the URDF hip joints; muscles: the per-frame surfaces "
             "(f = 0, `surface_cell_mm` grid), decimated for drawing.", ""]
     body += [f"![{os.path.basename(p)}]({os.path.basename(p)})" for p in pictures] + ["", END]
-    new = "\n".join(body)
-    if BEGIN in text and END in text:
-        text = text[:text.index(BEGIN)] + new + text[text.index(END) + len(END):]
-    else:
-        text = text.rstrip("\n") + "\n\n" + new + "\n"
-    with open(readme, "w") as f:
-        f.write(text)
+    bench_io.replace_marked_section(os.path.join(report, "README.md"), BEGIN, END, "\n".join(body),
+                                    "# rbfmuscle report\n\n")
 
 
 def main():
