@@ -40,15 +40,43 @@ TopologyGuard::TopologyGuard(std::vector<bool> free_mask, Eigen::VectorXd max_ab
   }
 }
 
+void TopologyGuard::updateValues(const GaussianField& field, const RegularGrid& grid) {
+  const bool same_grid = grid.origin_mm == grid_.origin_mm && grid.cell_mm == grid_.cell_mm && grid.counts == grid_.counts;
+  if (!same_grid || value_of_node_.size() != static_cast<size_t>(grid.size()) ||
+      evaluated_centres_mm_.cols() != field.getNumCentres() || evaluated_centres_mm_ != field.getCentres() ||
+      evaluated_shapes_ != field.getShapes() || evaluated_cutoff_ != field.getCutoff()) {
+    grid_ = grid;
+    calcValuesOnGrid(field, grid_, value_of_node_);
+  } else {
+    // Only weights and the offset changed since the last look (the guard's own rounds and
+    // the volume step between passes): add their change instead of summing every centre.
+    changed_centres_.clear();
+    const Eigen::VectorXd& weights = field.getWeights();
+    for (int k = 0; k < field.getNumCentres(); ++k)
+      if (weights(k) != evaluated_weights_(k)) changed_centres_.push_back(k);
+    weight_change_ = weights - evaluated_weights_;
+    addCentresOnGrid(field, grid_, changed_centres_, weight_change_, value_of_node_);
+    const double offset_change = field.getOffset() - evaluated_offset_;
+    if (offset_change != 0.0)
+      for (double& v : value_of_node_) v += offset_change;
+  }
+  evaluated_centres_mm_ = field.getCentres();
+  evaluated_weights_ = field.getWeights();
+  evaluated_shapes_ = field.getShapes();
+  evaluated_offset_ = field.getOffset();
+  evaluated_cutoff_ = field.getCutoff();
+}
+
 int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& box_mm) {
   if (box_mm.isEmpty()) throw std::invalid_argument("TopologyGuard: empty box");
   // The nodes of extractIsoSurface.
-  grid_.origin_mm = box_mm.min();
-  grid_.cell_mm = settings_.cell_mm;
-  grid_.counts = countIsoSurfaceNodes(box_mm, settings_.cell_mm);
+  RegularGrid grid;
+  grid.origin_mm = box_mm.min();
+  grid.cell_mm = settings_.cell_mm;
+  grid.counts = countIsoSurfaceNodes(box_mm, settings_.cell_mm);
+  updateValues(field, grid);
   const std::int64_t nx = grid_.counts[0], ny = grid_.counts[1], nz = grid_.counts[2];
   auto nodeOf = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + nx * (j + ny * k); };
-  calcValuesOnGrid(field, grid_, value_of_node_);
   // Inside nodes; box-face nodes count as outside, as in the extraction.
   piece_of_node_.assign(static_cast<size_t>(grid_.size()), kOutside);
   inside_ids_.clear();

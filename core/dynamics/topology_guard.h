@@ -69,7 +69,9 @@ struct TopologyReport {
 /// centres where there are any).
 ///
 /// Each round evaluates f on the nodes box.min() + cell·(i, j, k) (the grid of
-/// extractIsoSurface, whose box-face nodes count as outside) by calcValuesOnGrid, and
+/// extractIsoSurface, whose box-face nodes count as outside) by calcValuesOnGrid (or,
+/// while the centres and the box stay, by adding only the change of the weights and the
+/// offset since the last look: addCentresOnGrid), and
 /// labels the pieces of inside nodes connected along the edges of its Kuhn tetrahedra
 /// (offsets in {0, 1}³ \ {0} and their negatives: 14 neighbours), which are the pieces
 /// the extracted surface bounds. Every piece but the largest is an island; every piece
@@ -113,6 +115,10 @@ class TopologyGuard {
                      TopologyReport& report);
   /// The lowest point of f on the segment joining the closest nodes of `island` and `body`.
   Eigen::Vector3d findGap(const GaussianField& field, int island, int body) const;
+  /// f on the nodes of `grid` into value_of_node_: in full when the grid, the centres, the
+  /// shapes or the cut-off differ from the last evaluation, else by adding the change of
+  /// the weights and the offset (equal up to rounding).
+  void updateValues(const GaussianField& field, const RegularGrid& grid);
   /// Evaluates the grid, labels the pieces of {f > 0} and then the cavities (appended
   /// to piece_size_/piece_top_); returns the number of pieces of {f > 0}.
   int label(const GaussianField& field, const Eigen::AlignedBox3d& box_mm);
@@ -132,6 +138,14 @@ class TopologyGuard {
   std::vector<std::uint8_t> exterior_;   ///< 1: a node of {f ≤ 0} already reached (from the faces or a cavity)
   std::vector<std::int64_t> queue_;
   ActiveCentres active_;
+  // The field of the last evaluation (updateValues).
+  Eigen::Matrix3Xd evaluated_centres_mm_;
+  Eigen::VectorXd evaluated_weights_;
+  Eigen::VectorXd evaluated_shapes_;
+  double evaluated_offset_ = 0.0;
+  double evaluated_cutoff_ = 0.0;
+  std::vector<int> changed_centres_;
+  Eigen::VectorXd weight_change_;
 };
 
 }  // namespace rbfmuscle

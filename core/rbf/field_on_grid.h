@@ -38,4 +38,12 @@ struct RegularGrid {
 /// @throws std::invalid_argument if cell_mm ≤ 0 or a count is negative.
 void calcValuesOnGrid(const GaussianField& field, const RegularGrid& grid, std::vector<double>& values);
 
+/// Adds Σ_{k ∈ centres} Δλₖ φₖ (the field's centre positions and shapes, Δλ = `weight_change`,
+/// size N) to `values` (size grid.size()) at every node, with the cut-off test and node
+/// ranges of calcValuesOnGrid: after a change of a few weights, the grid values follow at
+/// the cost of those centres' cut-off spheres instead of all of them.
+/// @throws std::invalid_argument as calcValuesOnGrid, or if values has the wrong size.
+void addCentresOnGrid(const GaussianField& field, const RegularGrid& grid, const std::vector<int>& centres,
+                      const Eigen::VectorXd& weight_change, std::vector<double>& values);
+
 }  // namespace rbfmuscle

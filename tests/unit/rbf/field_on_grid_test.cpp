@@ -12,15 +12,19 @@ namespace rbfmuscle {
 namespace {
 
 /// Every node of a grid that cuts through the centres, against calcValue.
-void expectMatchesPointValues(const GaussianField& field, const RegularGrid& grid) {
-  std::vector<double> values;
-  calcValuesOnGrid(field, grid, values);
+void expectMatchesPointValues(const GaussianField& field, const RegularGrid& grid, const std::vector<double>& values) {
   ASSERT_EQ(static_cast<std::int64_t>(values.size()), grid.size());
   double scale = std::abs(field.getOffset());
   for (int k = 0; k < field.getNumCentres(); ++k) scale += std::abs(field.getWeights()(k));
   for (std::int64_t id = 0; id < grid.size(); ++id) {
     ASSERT_NEAR(values[static_cast<size_t>(id)], field.calcValue(grid.node(id)), 1e-13 * scale) << "node " << id;
   }
+}
+
+void expectMatchesPointValues(const GaussianField& field, const RegularGrid& grid) {
+  std::vector<double> values;
+  calcValuesOnGrid(field, grid, values);
+  expectMatchesPointValues(field, grid, values);
 }
 
 TEST(FieldOnGrid, EqualsPointValuesWithAndWithoutCutoff) {
@@ -35,6 +39,27 @@ TEST(FieldOnGrid, EqualsPointValuesWithAndWithoutCutoff) {
   expectMatchesPointValues(field, grid);
   field.setCutoff(0.0);
   expectMatchesPointValues(field, grid);
+}
+
+// A few weights changed: adding their change to the old grid values gives the new
+// field's values (what the topology guard does between its rounds).
+TEST(FieldOnGrid, AddingChangedWeightsEqualsNewValues) {
+  std::mt19937 rng(11);
+  GaussianField field = test::makeRandomField(rng, 60, 0.005, 2.0, 20.0, 1e-8);
+  RegularGrid grid;
+  grid.origin_mm = Eigen::Vector3d(-23.3, -19.1, -21.7);
+  grid.cell_mm = 1.7;
+  grid.counts = {28, 25, 27};
+  std::vector<double> values;
+  calcValuesOnGrid(field, grid, values);
+  Eigen::VectorXd change = Eigen::VectorXd::Zero(field.getNumCentres());
+  const std::vector<int> changed = {3, 17, 42};
+  for (int k : changed) change(k) = 0.5 * field.getWeights()(k) + 0.3;
+  addCentresOnGrid(field, grid, changed, change, values);
+  field.setWeights(field.getWeights() + change);
+  expectMatchesPointValues(field, grid, values);
+  values.resize(5);
+  EXPECT_THROW(addCentresOnGrid(field, grid, changed, change, values), std::invalid_argument);
 }
 
 TEST(FieldOnGrid, CentresOutsideTheGridAndEmptyGrids) {
