@@ -259,6 +259,7 @@ void RBFMuscle::update(const FrameState& state) {
     X_MB_[b] = to_M * state.getBodyTransform(contact_bodies_[b]);
   result_.collision_ms = contact_resolver_ ? 0.0 : DeformResult::kNaN;
   result_.max_penetration_mm = result_.max_penetration_before_mm = result_.contacts = DeformResult::kNaN;
+  result_.max_penetration_free_mm = DeformResult::kNaN;
   result_.contact_iterations = 0;
   int steps = 1;
   if (contact_resolver_) {
@@ -334,6 +335,7 @@ void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::
   const auto maxOrNaN = [](double a, double b) { return std::isnan(a) ? b : std::max(a, b); };
   result_.max_penetration_mm = maxOrNaN(result_.max_penetration_mm, report.max_penetration_mm);
   result_.max_penetration_before_mm = maxOrNaN(result_.max_penetration_before_mm, report.max_penetration_before_mm);
+  result_.max_penetration_free_mm = maxOrNaN(result_.max_penetration_free_mm, report.max_penetration_free_mm);
   result_.contacts = maxOrNaN(result_.contacts, report.contacts);
   result_.contact_iterations += report.iterations;
   result_.collision_ms += msSince(start);

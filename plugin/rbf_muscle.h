@@ -64,7 +64,9 @@
 ///   fiber_points_outside (fibre points still with f ≤ 0 after the projection; 0 when all are inside),
 ///   line_of_action_length_mm (the path of line_of_action_mm, or the straight line);
 ///   max_penetration_mm (largest probe depth inside a bone beyond its rest overlap after the
-///   response, max over sub-steps), max_penetration_before_mm (the same before the response),
+///   response, max over sub-steps), max_penetration_free_mm (the same over probes where the
+///   surface is made mostly by free centres, i.e. not on attachment surface),
+///   max_penetration_before_mm (the same before the response),
 ///   contacts (probes found beyond their rest overlap, max over sub-steps), substeps,
 ///   contact_iterations (response iterations, summed), collision_ms (probe carrying, queries and
 ///   response, all sub-steps; NaN without contact_probes).
@@ -167,6 +169,9 @@ class RBFMuscle final : public Component {
   Output max_penetration_mm{this, "max_penetration_mm", "mm",
                             "deepest probe inside a bone beyond its rest overlap, after the response",
                             [this] { return result_.max_penetration_mm; }};
+  Output max_penetration_free_mm{this, "max_penetration_free_mm", "mm",
+                                 "max_penetration_mm over probes where the surface is made mostly by free centres",
+                                 [this] { return result_.max_penetration_free_mm; }};
   Output max_penetration_before_mm{this, "max_penetration_before_mm", "mm",
                                    "deepest probe inside a bone beyond its rest overlap, before the response",
                                    [this] { return result_.max_penetration_before_mm; }};
@@ -213,6 +218,7 @@ class RBFMuscle final : public Component {
     double line_of_action_length_mm = kNaN;
     double max_penetration_mm = kNaN;         ///< mm
     double max_penetration_before_mm = kNaN;  ///< mm
+    double max_penetration_free_mm = kNaN;    ///< mm
     double contacts = kNaN;
     double substeps = kNaN;
     double contact_iterations = kNaN;

@@ -7,7 +7,6 @@
 #include <string>
 
 #include <Eigen/Cholesky>
-#include <Eigen/SparseCore>
 
 #include "collision/collision_error.h"
 #include "collision/surface_probes.h"
@@ -19,10 +18,6 @@ constexpr double kRestQueryRadiusMm = 1e6;
 constexpr double kLowerBoundReachMm = 10.0;  ///< extra query radius so far probes get a useful lower bound
 /// A moved centre k marks the probes within √(ln(1e3)/α_k) of it (where φ_k ≥ 1e-3) for re-projection.
 const double kInfluenceLogRatio = std::log(1e3);
-/// Centres with φ below this at a probe are left out of its constraint row (they barely act there).
-constexpr double kDerivativeCutoff = 1e-3;
-/// Smallest |cos(∇f, n)| taken as a push along the bone normal n (else inward along ∇f).
-constexpr double kMinCosine = 0.3;
 
 void requirePositive(double value, const char* name) {
   if (!(value > 0.0) || !std::isfinite(value))
@@ -82,6 +77,19 @@ ContactResolver::ContactResolver(std::vector<ContactBone> bones, const GaussianF
     probes_M_.col(i) = p;
     thickness_mm_(i) = calcLocalThickness(rest_field, p, settings_.thickness_step_mm, settings_.thickness_max_mm);
   }
+  free_share_.resize(P);
+  ActiveCentres active;
+  for (int i = 0; i < P; ++i) {
+    rest_field.findActiveCentres(probes_M_.col(i), active);
+    double free = 0.0, all = 0.0;
+    for (int q = 0; q < active.size(); ++q) {
+      const int k = active.indices[static_cast<size_t>(q)];
+      const double w = std::abs(rest_field.getWeights()(k) * active.phi[static_cast<size_t>(q)]);
+      all += w;
+      if (free_centres_[static_cast<size_t>(k)]) free += w;
+    }
+    free_share_(i) = all > 0.0 ? free / all : 0.0;
+  }
   carried_prev_M_ = rest_probes_M;
   rest_distance_mm_.resize(P, B);
   ref_point_B_.resize(static_cast<size_t>(B));
@@ -114,7 +122,7 @@ int ContactResolver::calcSubsteps(const std::vector<Eigen::Isometry3d>& X_MB, co
     const Eigen::Matrix3Xd& ref = ref_point_B_[static_cast<size_t>(b)];
     for (int i = 0; i < countProbes(); ++i) {
       const Eigen::Vector3d p_prev_B = X_BM_prev * probes_M_.col(i);
-      const Eigen::Vector3d x = probes_M_.col(i) + (carried_M.col(i) - carried_prev_M_.col(i));
+      const Eigen::Vector3d x = calcStartPoint(i, carried_M);
       const double delta = (X_BM_now * x - p_prev_B).norm();
       const double bound_prev = ref_distance_mm_(i, b) - (p_prev_B - ref.col(i)).norm();
       if (bound_prev + allowance_mm_(i, b) < delta)
@@ -136,7 +144,8 @@ const ContactReport& ContactResolver::resolve(const std::vector<Eigen::Isometry3
   const auto start = std::chrono::steady_clock::now();
   for (int b = 0; b < countBones(); ++b) bone_sets_[static_cast<size_t>(b)].setBoneTransforms({X_MB[static_cast<size_t>(b)]});
   X_MB_prev_ = X_MB;
-  probes_M_ += carried_M - carried_prev_M_;
+  // Probes follow the change of their carried points (class comment, Probes).
+  for (int i = 0; i < countProbes(); ++i) probes_M_.col(i) = calcStartPoint(i, carried_M);
   carried_prev_M_ = carried_M;
   std::fill(moved_.begin(), moved_.end(), false);
   report_ = ContactReport{};
@@ -148,23 +157,73 @@ const ContactReport& ContactResolver::resolve(const std::vector<Eigen::Isometry3
     report_.stop = ContactStop::kMeasureOnly;
   } else {
     report_.stop = ContactStop::kWithinTolerance;
+    // Trust region on the centre moves: doubled after a step that lowered the worst excess,
+    // halved after one that did not, within [max_centre_step_mm / 8, 4 max_centre_step_mm].
+    double step_limit = settings_.max_centre_step_mm;
+    // The best iterate (lowest worst excess) is kept: a stopped response never leaves the
+    // muscle deeper than its best state.
+    double best = penetration;
+    best_centres_ = field.getCentres();
+    best_probes_ = probes_M_;
     while (penetration > settings_.tolerance_mm) {
       if (report_.iterations >= settings_.max_iterations) {
         report_.stop = ContactStop::kIterationCap;
         break;
       }
-      if (!respondOnce(field)) {
+      if (!respondOnce(field, step_limit)) {
         report_.stop = ContactStop::kNoFreeCentre;
         break;
       }
       ++report_.iterations;
+      const double previous = penetration;
+      penetration = measure(field);
+      step_limit = penetration < previous ? std::min(2.0 * step_limit, 4.0 * settings_.max_centre_step_mm)
+                                          : std::max(0.5 * step_limit, 0.125 * settings_.max_centre_step_mm);
+      if (penetration < best) {
+        best = penetration;
+        best_centres_ = field.getCentres();
+        best_probes_ = probes_M_;
+      }
+    }
+    if (penetration > best) {
+      // Back to the best centres; every probe may be as far from the surface as the largest
+      // centre move back (slack), so measure again.
+      const double back = (field.getCentres() - best_centres_).colwise().norm().maxCoeff();
+      field.setCentrePositions(best_centres_);
+      probes_M_ = best_probes_;
+      slack_mm_.array() += back;
       penetration = measure(field);
     }
   }
   report_.max_penetration_mm = penetration;
+  report_.max_penetration_free_mm = calcFreeSurfacePenetration(field);
   report_.moved_centres = static_cast<int>(std::count(moved_.begin(), moved_.end(), true));
   report_.ms = msSince(start);
   return report_;
+}
+
+double ContactResolver::calcFreeSurfacePenetration(const GaussianField& field) {
+  active_.clear();
+  for (int i = 0; i < countProbes(); ++i)
+    if (excess_mm_(i) > 0.0) active_.push_back(i);
+  std::sort(active_.begin(), active_.end(), [&](int a, int b) { return excess_mm_(a) > excess_mm_(b); });
+  ActiveCentres active;
+  for (int i : active_) {  // deepest first: the first probe on free surface gives the answer
+    field.findActiveCentres(probes_M_.col(i), active);
+    double free = 0.0, all = 0.0;
+    for (int q = 0; q < active.size(); ++q) {
+      const int k = active.indices[static_cast<size_t>(q)];
+      const double w = std::abs(field.getWeights()(k) * active.phi[static_cast<size_t>(q)]);
+      all += w;
+      if (free_centres_[static_cast<size_t>(k)]) free += w;
+    }
+    if (all > 0.0 && free >= 0.5 * all) return excess_mm_(i);
+  }
+  return 0.0;
+}
+
+Eigen::Vector3d ContactResolver::calcStartPoint(int i, const Eigen::Matrix3Xd& carried_M) const {
+  return probes_M_.col(i) + (carried_M.col(i) - carried_prev_M_.col(i));
 }
 
 double ContactResolver::measure(const GaussianField& field) {
@@ -249,77 +308,187 @@ void ContactResolver::addSlack(const GaussianField& field, const std::vector<int
   }
 }
 
-bool ContactResolver::respondOnce(GaussianField& field) {
+bool ContactResolver::respondOnce(GaussianField& field, double step_limit_mm) {
+  // Active probes (beyond their allowance), deepest first.
+  active_.clear();
+  for (int i = 0; i < countProbes(); ++i)
+    if (excess_mm_(i) > 0.0 && exit_normal_M_.col(i).squaredNorm() > 0.0) active_.push_back(i);
+  if (active_.empty()) return false;
+  std::sort(active_.begin(), active_.end(), [&](int a, int b) { return excess_mm_(a) > excess_mm_(b); });
+  // Length L of the push: block_fraction of the local rest thickness (median over the active
+  // probes), so the push moves the muscle's cross-section as a block instead of denting its
+  // surface (a dent changes the curvature, which the next descent would undo).
+  std::vector<double> t;
+  t.reserve(active_.size());
+  for (int i : active_) t.push_back(thickness_mm_(i));
+  std::nth_element(t.begin(), t.begin() + static_cast<std::ptrdiff_t>(t.size() / 2), t.end());
+  const double L = std::max(settings_.block_fraction * t[t.size() / 2], settings_.thickness_step_mm);
+  // One row per cluster: a probe is kept unless a deeper kept probe lies within L/2 (the
+  // smooth push moves its neighbours about as far).
+  rows_.clear();
+  for (int i : active_) {
+    bool near = false;
+    for (int j : rows_) near = near || (probes_M_.col(i) - probes_M_.col(j)).squaredNorm() < 0.25 * L * L;
+    if (!near) rows_.push_back(i);
+  }
   const Eigen::Matrix3Xd& xi = field.getCentres();
   const Eigen::VectorXd& lambda = field.getWeights();
   const Eigen::VectorXd& alpha = field.getShapes();
-  std::vector<int> local(static_cast<size_t>(field.getNumCentres()), -1);
-  std::vector<int> centres;  // local → global
-  std::vector<Eigen::Triplet<double>> triplets;
-  std::vector<double> rhs;
+  // Centre k moves by u_k = Σ_b ψ_k(p_b) γ_b n_b over the rows b, ψ_k(p) = exp(−|ξ_k − p|²/(L² + 1/α_k)):
+  // the push covers the centre's own footprint (width 1/√α_k), so the centres that make the
+  // surface near a row move together. A probe moves by the mean move v(p) of the centres
+  // active at p, weighted by |λ_k φ_k(p)| (a translated muscle carries its probes exactly),
+  // and the surface along its unit gradient ĝ by t = −Δf(p)/‖∇f(p)‖, to first order
+  // Δf(p) = Σ_k ∂f(p)/∂ξ_k · u_k. The probe's signed distance to its bone then grows by
+  //   Δs_a = n_a·(v − (ĝ·v) ĝ) + c_a t_a,  c_a = ĝ_a·n_a,
+  // linear in γ: Δs_a = A_a γ. Rows ask Δs_a = e_a + margin, solved in the damped
+  // least-squares sense (AᵀA + μ tr(AᵀA)/m I) γ = Aᵀ(e + margin).
   ActiveCentres active;
-  for (int i = 0; i < countProbes(); ++i) {
-    const double e = excess_mm_(i);
-    if (!(e > 0.0)) continue;
-    const Eigen::Vector3d p = probes_M_.col(i);
-    field.findActiveCentres(p, active);
-    double f = field.getOffset();
-    Eigen::Vector3d grad = Eigen::Vector3d::Zero();
-    const int row = static_cast<int>(rhs.size());
-    bool any_free = false;
-    for (int a = 0; a < active.size(); ++a) {
-      const int k = active.indices[static_cast<size_t>(a)];
-      const double w = lambda(k) * active.phi[static_cast<size_t>(a)];
-      const Eigen::Vector3d d = p - xi.col(k);
-      f += w;
-      grad -= 2.0 * alpha(k) * w * d;
-      if (!free_centres_[static_cast<size_t>(k)] || active.phi[static_cast<size_t>(a)] < kDerivativeCutoff) continue;
-      if (local[static_cast<size_t>(k)] < 0) {
-        local[static_cast<size_t>(k)] = static_cast<int>(centres.size());
-        centres.push_back(k);
+  Eigen::VectorXd carry;
+  // ψ_k(p_b) of every free centre (0 beyond 3 widths), one column per row, made as rows join.
+  const int N = field.getNumCentres();
+  const auto addKernelColumns = [&](int from) {
+    const int m = static_cast<int>(rows_.size());
+    psi_.conservativeResize(N, m);
+    for (int b = from; b < m; ++b) {
+      const Eigen::Vector3d pb = probes_M_.col(rows_[static_cast<size_t>(b)]);
+      for (int k = 0; k < N; ++k) {
+        const double width2 = L * L + 1.0 / alpha(k);
+        const double r2 = (xi.col(k) - pb).squaredNorm();
+        psi_(k, b) = free_centres_[static_cast<size_t>(k)] && r2 <= 9.0 * width2 ? std::exp(-r2 / width2) : 0.0;
       }
-      const Eigen::Vector3d dfdxi = 2.0 * alpha(k) * w * d;  // ∂f(p)/∂ξ_k
-      for (int c = 0; c < 3; ++c) triplets.emplace_back(row, 3 * local[static_cast<size_t>(k)] + c, dfdxi(c));
-      any_free = true;
     }
-    if (!any_free) continue;
-    // The surface point should move by (e + margin) along the bone's outward normal n: to first
-    // order f_new(p + δn) = 0, i.e. J Δξ = −f − δ ∇f·n. Near-tangent normals (|cos| < kMinCosine,
-    // a bone edge through the side of the muscle) push the surface inward along ∇f instead.
+  };
+  psi_.resize(N, 0);
+  addKernelColumns(0);
+  // Fills `out` with A_a for probe i against the current rows; false when ∇f(p_i) vanishes.
+  const auto makeRow = [&](int i, Eigen::Ref<Eigen::RowVectorXd> out) {
+    const int m = static_cast<int>(rows_.size());
+    const Eigen::Vector3d p = probes_M_.col(i), n = exit_normal_M_.col(i);
+    out.setZero();
+    field.findActiveCentres(p, active);
+    Eigen::Vector3d grad = Eigen::Vector3d::Zero();
+    double weight = 0.0;
+    for (int q = 0; q < active.size(); ++q) {
+      const int k = active.indices[static_cast<size_t>(q)];
+      const double w = lambda(k) * active.phi[static_cast<size_t>(q)];
+      grad -= 2.0 * alpha(k) * w * (p - xi.col(k));
+      weight += std::abs(w);
+    }
     const double g = grad.norm();
-    double cosine = g > 0.0 ? grad.dot(exit_normal_M_.col(i)) / g : 1.0;
-    if (std::abs(cosine) < kMinCosine) cosine = kMinCosine;
-    rhs.push_back(-f - (e + settings_.margin_mm) * g * cosine);
+    if (!(g > 0.0) || !(weight > 0.0)) return false;
+    const Eigen::Vector3d gh = grad / g;
+    const double c = gh.dot(n);
+    carry.setZero(m);
+    for (int q = 0; q < active.size(); ++q) {
+      const int k = active.indices[static_cast<size_t>(q)];
+      if (!free_centres_[static_cast<size_t>(k)]) continue;
+      const double w = lambda(k) * active.phi[static_cast<size_t>(q)];
+      const Eigen::Vector3d dfdxi = 2.0 * alpha(k) * w * (p - xi.col(k));  // ∂f(p)/∂ξ_k
+      for (int b = 0; b < m; ++b) {
+        const double psi = psi_(k, b);
+        if (psi == 0.0) continue;
+        out(b) -= c / g * psi * dfdxi.dot(exit_normal_M_.col(rows_[static_cast<size_t>(b)]));
+        carry(b) += std::abs(w) / weight * psi;
+      }
+    }
+    for (int b = 0; b < m; ++b) {
+      const Eigen::Vector3d& nb = exit_normal_M_.col(rows_[static_cast<size_t>(b)]);
+      out(b) += carry(b) * (n.dot(nb) - c * gh.dot(nb));
+    }
+    return true;
+  };
+  // Probes near contact (queried, within query_band_mm of their bone, not active) must not be
+  // pushed in: after a solve, those predicted to end deeper than the tolerance join the rows
+  // with their own target (an active-set pass for the inequalities Δs ≥ e + margin).
+  const double reach2 = 9.0 * (L * L + 1.0 / alpha.minCoeff());  // no centre within 3 widths of a row: no move
+  near_.clear();
+  for (int i = 0; i < countProbes(); ++i)
+    if (excess_mm_(i) <= 0.0 && excess_mm_(i) > -settings_.query_band_mm && exit_normal_M_.col(i).squaredNorm() > 0.0)
+      near_.push_back(i);
+  constexpr int kActiveSetPasses = 3;
+  Eigen::VectorXd gamma;
+  Eigen::MatrixXd A;
+  Eigen::RowVectorXd candidate_row, row_buffer;
+  for (int pass = 0;; ++pass) {
+    const int m = static_cast<int>(rows_.size());
+    A.setZero(m, m);
+    Eigen::VectorXd delta(m);
+    for (int a = 0; a < m; ++a) {
+      const int i = rows_[static_cast<size_t>(a)];
+      delta(a) = excess_mm_(i) + settings_.margin_mm;
+      row_buffer.resize(m);
+      if (makeRow(i, row_buffer)) A.row(a) = row_buffer;
+    }
+    Eigen::MatrixXd G = A.transpose() * A;
+    G.diagonal().array() += settings_.damping * G.trace() / m + std::numeric_limits<double>::min();
+    gamma = G.ldlt().solve(A.transpose() * delta);
+    if (!gamma.allFinite()) return false;
+    if (pass + 1 >= kActiveSetPasses) break;
+    std::vector<int> added;
+    candidate_row.resize(m);
+    for (int i : near_) {
+      if (std::find(rows_.begin(), rows_.end(), i) != rows_.end()) continue;
+      bool covered = false;
+      for (int j : added) covered = covered || (probes_M_.col(i) - probes_M_.col(j)).squaredNorm() < 0.25 * L * L;
+      bool reached = false;
+      for (int b = 0; b < m && !reached; ++b)
+        reached = (probes_M_.col(i) - probes_M_.col(rows_[static_cast<size_t>(b)])).squaredNorm() <= reach2;
+      if (covered || !reached || !makeRow(i, candidate_row)) continue;
+      if (candidate_row.dot(gamma) < excess_mm_(i) + settings_.margin_mm - settings_.tolerance_mm) added.push_back(i);
+    }
+    if (added.empty()) break;
+    const int from = static_cast<int>(rows_.size());
+    rows_.insert(rows_.end(), added.begin(), added.end());
+    addKernelColumns(from);
   }
-  const int m = static_cast<int>(rhs.size()), n = 3 * static_cast<int>(centres.size());
-  if (m == 0 || n == 0) return false;
-  Eigen::SparseMatrix<double, Eigen::RowMajor> A(m, n);
-  A.setFromTriplets(triplets.begin(), triplets.end());
-  const Eigen::Map<const Eigen::VectorXd> r(rhs.data(), m);
-  Eigen::VectorXd step;
-  if (m <= n) {
-    Eigen::MatrixXd G = Eigen::MatrixXd(A * A.transpose());
-    const double mu = settings_.damping * G.trace() / m + std::numeric_limits<double>::min();
-    G.diagonal().array() += mu;
-    step = A.transpose() * G.ldlt().solve(r);
-  } else {
-    Eigen::MatrixXd G = Eigen::MatrixXd(A.transpose() * A);
-    const double mu = settings_.damping * G.trace() / n + std::numeric_limits<double>::min();
-    G.diagonal().array() += mu;
-    step = G.ldlt().solve(A.transpose() * r);
-  }
-  if (!step.allFinite()) return false;
-  double longest = 0.0;
-  for (size_t c = 0; c < centres.size(); ++c) longest = std::max(longest, step.segment<3>(3 * static_cast<Eigen::Index>(c)).norm());
-  if (longest > settings_.max_centre_step_mm) step *= settings_.max_centre_step_mm / longest;
-  const Eigen::Matrix3Xd old_centres = xi;
+  const int m = static_cast<int>(rows_.size());
   Eigen::Matrix3Xd moved_centres = xi;
-  for (size_t c = 0; c < centres.size(); ++c) {
-    moved_centres.col(centres[c]) += step.segment<3>(3 * static_cast<Eigen::Index>(c));
-    moved_[static_cast<size_t>(centres[c])] = true;
+  std::vector<int> centres;
+  double longest = 0.0;
+  for (int k = 0; k < N; ++k) {
+    Eigen::Vector3d u = Eigen::Vector3d::Zero();
+    bool any = false;
+    for (int b = 0; b < m; ++b) {
+      if (psi_(k, b) == 0.0) continue;
+      u += psi_(k, b) * gamma(b) * exit_normal_M_.col(rows_[static_cast<size_t>(b)]);
+      any = true;
+    }
+    if (!any) continue;
+    moved_centres.col(k) += u;
+    centres.push_back(k);
+    longest = std::max(longest, u.norm());
   }
+  if (centres.empty() || !(longest > 0.0)) return false;
+  // Trust region: no centre moves more than step_limit_mm (the linearisation holds there).
+  const double scale = longest > step_limit_mm ? step_limit_mm / longest : 1.0;
+  for (int k : centres) moved_centres.col(k) = xi.col(k) + scale * (moved_centres.col(k) - xi.col(k));
+  // The probes near the push follow it (v(p) above); the next measurement projects them onto
+  // the new surface.
+  // Only probes measured last time (near a bone) are carried; the others are projected from
+  // where they are when they come near (their slack covers the move).
+  for (int i = 0; i < countProbes(); ++i) {
+    if (!(excess_mm_(i) > -std::numeric_limits<double>::infinity())) continue;
+    bool near = false;
+    for (int b = 0; b < m && !near; ++b)
+      near = (probes_M_.col(i) - probes_M_.col(rows_[static_cast<size_t>(b)])).squaredNorm() <= reach2;
+    if (!near) continue;
+    field.findActiveCentres(probes_M_.col(i), active);
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    double weight = 0.0;
+    for (int q = 0; q < active.size(); ++q) {
+      const int k = active.indices[static_cast<size_t>(q)];
+      const double w = std::abs(lambda(k)) * active.phi[static_cast<size_t>(q)];
+      sum += w * (moved_centres.col(k) - xi.col(k));
+      weight += w;
+    }
+    if (weight > 0.0) probes_M_.col(i) += sum / weight;
+  }
+  const Eigen::Matrix3Xd old_centres = xi;
+  for (int k : centres) moved_[static_cast<size_t>(k)] = true;
   field.setCentrePositions(moved_centres);
-  addSlack(field, centres, old_centres, std::min(longest, settings_.max_centre_step_mm));
+  addSlack(field, centres, old_centres, scale * longest);
+  last_step_mm_ = scale * longest;
   return true;
 }
 

@@ -43,12 +43,16 @@ struct ContactSettings {
   double projection_tolerance_mm = 0.01;  ///< |f|/‖∇f‖ at which a projection stops (mm)
   /// Probes whose certified lower bound on s − (−a) is above this are not queried (mm).
   double query_band_mm = 1.0;
-  /// Damping κ of the response: μ = κ·tr(G)/size added to the diagonal of the Gram matrix G
-  /// (AAᵀ or AᵀA), so near-parallel rows with different depths do not ask for huge moves
-  /// (iliacus at 10° steps: 1e-2 and below oscillate, 0.1–1 converge alike).
-  double damping = 0.1;
-  /// Largest move of one centre in one response iteration (mm); the step is scaled down to it.
-  double max_centre_step_mm = 1.0;
+  /// Damping κ of the response: μ = κ·tr(AᵀA)/m added to the diagonal of AᵀA (class
+  /// comment), so near-parallel rows with different depths do not ask for huge moves.
+  double damping = 0.01;
+  /// Length of a push as a fraction of the local rest muscle thickness (median over the probes
+  /// being pushed): the displacement field is smooth over this length, so the muscle's
+  /// cross-section moves as a block rather than being dented.
+  double block_fraction = 1.0;
+  /// Initial trust region: largest move of one centre in one response iteration (mm); it
+  /// adapts within [1/8, 4] × this value (class comment, step 5).
+  double max_centre_step_mm = 2.0;
   /// Tunnelling guard: a frame is split so that no bone point near the muscle moves more
   /// than this fraction of the local muscle thickness per sub-step.
   double safe_fraction = 0.5;
@@ -73,6 +77,9 @@ struct ContactReport {
   double max_penetration_before_mm = 0.0;
   /// max(0, max_i e_i) at the last measurement (mm); ≤ tolerance unless the stop says otherwise.
   double max_penetration_mm = 0.0;
+  /// The same over the probes where the surface is now made mostly by free centres (≥ ½ of
+  /// Σ|λ_k φ_k(p)|); the others lie on attachment surface, which the response cannot move (mm).
+  double max_penetration_free_mm = 0.0;
   int iterations = 0;         ///< responses (centre moves) done
   ContactStop stop = ContactStop::kWithinTolerance;  ///< why it stopped
   long long probe_queries = 0;  ///< exact (probe, bone) distance queries over all measurements
@@ -88,7 +95,11 @@ struct ContactReport {
 /// probes with the muscle's own prediction (the dual-quaternion blend of the deformer) to c_i;
 /// the probe starts at x_i = p_i + (c_i − c_i^prev) (its last surface point moved by the change
 /// of prediction, as the deformer's warm start) and is pulled onto the current f = 0 by
-/// projectOntoSurface (≤ newton_steps · newton_step_cap_mm of travel).
+/// projectOntoSurface (≤ newton_steps · newton_step_cap_mm of travel). A response carries the
+/// probes it moves. Limit: probes drift along the surface over many frames (iliacus, 1°
+/// frames: some probes 20–30 mm from their carried points by 45°–60°, some into the origin
+/// attachment); keeping only the normal part of the offset was tried and made the iliacus
+/// response much worse (15 mm), so the drift is left as a known limit.
 ///
 /// **Rest overlap** (the pelvis proxy overlaps the iliacus by up to 8 mm, the femoral head
 /// by up to 7 mm): a probe inside bone b at rest (s_ib(rest) < 0) is excluded for that bone
@@ -109,19 +120,36 @@ struct ContactReport {
 /// moved centre: the bound also subtracts σ_i, and the next projection of that probe gets
 /// ⌈σ_i / newton_step_cap_mm⌉ more Newton steps (so probes follow a surface the response moved).
 ///
-/// **Response** (respond = true). While some e_i = max_b e_ib > tolerance, every probe with
-/// e_i > 0 should move by δ_i = e_i + margin along n_i, the outward normal of its deepest bone
-/// (out of the bone by the shortest way): to first order f_new(p_i + δ_i n_i) = 0, i.e.
-///   Σ_{k free} ∂f(p_i)/∂ξ_k · Δξ_k = −f(p_i) − δ_i ‖∇f(p_i)‖ c_i,  c_i = cos(∇f, n_i),
-/// so a muscle face lying on the bone (c > 0) retracts and a muscle tip inside the bone (c < 0)
-/// moves out; where |c_i| < 0.3 (the bone crosses the side of the muscle) c_i = 0.3 is used, a
-/// push inward along ∇f. This is why the tunnelling guard must keep steps below half the bone's
-/// thickness too (ContactBone::thickness_mm): deeper than that, the nearest way out of a thin
-/// bone is through its far face. The damped minimum-norm Δξ over the free centres with
-/// φ ≥ 1e-3 at the probes (attached centres never move) is Aᵀ(AAᵀ + μI)⁻¹r when the rows are
-/// fewer than the unknowns, otherwise (AᵀA + μI)⁻¹Aᵀr, μ = damping·tr/size; it is scaled so
-/// no centre moves more than max_centre_step_mm; then probes are re-projected and re-queried.
+/// **Response** (respond = true): a smooth push of the muscle out of the bones, moving free
+/// centres only. While some e_i = max_b e_ib > tolerance, each iteration:
+///  1. rows: the probes with e_i > 0 (deepest first, one per cluster of radius L/2), n_i the
+///     outward normal of the probe's deepest bone; L = block_fraction × the median rest
+///     thickness of those probes, so a push moves the muscle's cross-section as a block
+///     instead of denting its surface (a dent changes the curvature, which the deformer's
+///     next descent undoes; with L = thickness the 1°-frame iliacus loses about half as much
+///     of the push to the next descent as with the former dent-shaped minimum-norm step);
+///  2. displacement: free centre k moves by u_k = Σ_b ψ_k(p_b) γ_b n_b,
+///     ψ_k(p) = exp(−‖ξ_k − p‖²/(L² + 1/α_k)) (the push covers each centre's own footprint);
+///  3. exact first-order model: the probes are material points (a probe moves by the mean move
+///     of the centres active at it, weighted by |λ_k φ_k(p)|), and the surface moves along its
+///     unit gradient ĝ by t = −Δf(p)/‖∇f(p)‖, Δf(p) = Σ_k ∂f(p)/∂ξ_k · u_k, so probe a's signed
+///     distance grows by Δs_a = n_a·(v_a − (ĝ_a·v_a) ĝ_a) + (ĝ_a·n_a) t_a = A_a γ. The rows ask
+///     Δs_a = e_a + margin: (AᵀA + μ tr(AᵀA)/m I) γ = Aᵀ(e + margin), μ = damping. (The former
+///     rows f_new(p + δn) = 0 with re-projection along ∇f only gained δ c² per iteration,
+///     c = cos(∇f, n): 9 % for the clamped c = 0.3, which is why they stalled on the iliacus.)
+///  4. inequalities: probes near contact (within query_band_mm, not in a row) predicted to end
+///     deeper than the tolerance join the rows with target e + margin and the system is solved
+///     again (an active-set pass, at most 3 solves), so a push out of one wall of a concave
+///     bone does not push the muscle into the other;
+///  5. trust region: the step is scaled so no centre moves more than a limit that starts at
+///     max_centre_step_mm, doubles after an iteration that lowered the worst excess and halves
+///     after one that did not (within [1/8, 4] × max_centre_step_mm); the probes are carried
+///     and then re-projected and re-queried (measure). When the loop stops, the best iterate
+///     (lowest worst excess) is restored if the last one is worse.
 /// All bones are resolved together (a probe's excess is its worst bone). Stops: ContactStop.
+/// A push cannot move a surface made by attached centres: getFreeShares() gives each probe's
+/// share of free centres at rest, and ContactReport::max_penetration_free_mm the penetration
+/// over the probes where the surface is now made mostly by free centres.
 ///
 /// **Tunnelling guard** (calcSubsteps): for each probe and bone that can touch this frame
 /// (certified distance at the previous frame, plus allowance, below the relative move δ_ib of
@@ -132,9 +160,8 @@ struct ContactReport {
 ///
 /// Limits: penetration is measured at the probes (a sharp bone edge between probes is not
 /// seen); a probe whose surface point is more than the projection travel from where it
-/// starts is left where the travel ends. Measured on the hip (issue 5 report): the response
-/// keeps the gluteus out of both bones, but for the iliacus against the pelvis proxy it only
-/// halves the penetration (the iteration cap stops it).
+/// starts is left where the travel ends. Measured on the hip: see models/hip/README.md
+/// ("Contacts").
 class ContactResolver {
  public:
   /// @param bones bones with their body-frame meshes and rest poses in M (≥ 1)
@@ -171,6 +198,8 @@ class ContactResolver {
   const Eigen::MatrixXd& getAllowances() const { return allowance_mm_; }
   /// Number of (probe, bone) pairs excluded as rest overlap.
   int countExcludedPairs() const { return static_cast<int>((rest_distance_mm_.array() < 0.0).count()); }
+  /// Free share at each probe at rest (P): Σ_free |λ_k φ_k(p_i)| / Σ_all |λ_k φ_k(p_i)|.
+  const Eigen::VectorXd& getFreeShares() const { return free_share_; }
   /// Rest thickness t_i at each probe (P, mm).
   const Eigen::VectorXd& getThickness() const { return thickness_mm_; }
   /// The last report.
@@ -179,11 +208,15 @@ class ContactResolver {
   const ContactSettings& getSettings() const { return settings_; }
 
  private:
+  /// max(0, largest excess over probes whose surface is made mostly by free centres) (mm).
+  double calcFreeSurfacePenetration(const GaussianField& field);
+  /// Where probe i starts for carried points `carried_M` (class comment, Probes).
+  Eigen::Vector3d calcStartPoint(int i, const Eigen::Matrix3Xd& carried_M) const;
   /// Projects and queries the probes that may be within the band of a bone; fills excess_.
   /// @return max(0, max_i e_i)
   double measure(const GaussianField& field);
   /// One minimum-norm response step; @return false when no free centre acts on the rows.
-  bool respondOnce(GaussianField& field);
+  bool respondOnce(GaussianField& field, double step_limit_mm);
   /// Adds `longest_mm` (the longest centre move) to the slack of the probes within the
   /// influence radius of the moved `centres` (global indices; old positions in `old_centres`).
   void addSlack(const GaussianField& field, const std::vector<int>& centres, const Eigen::Matrix3Xd& old_centres,
@@ -201,6 +234,7 @@ class ContactResolver {
   Eigen::MatrixXd ref_distance_mm_;   ///< P×B lower bound of s at ref_point_B_
   std::vector<Eigen::Matrix3Xd> ref_point_B_;  ///< per bone, 3×P probe in B at its last query
   Eigen::VectorXd thickness_mm_;
+  Eigen::VectorXd free_share_;         ///< per probe, free centres' share of |λφ| at rest
   Eigen::VectorXd excess_mm_;          ///< e_i of the last measurement (−∞ when not queried)
   std::vector<bool> moved_;            ///< per centre, moved in this call
   Eigen::Matrix3Xd exit_normal_M_;     ///< per probe, outward normal of its deepest bone (M)
@@ -211,6 +245,13 @@ class ContactResolver {
   Eigen::Matrix3Xd query_points_;
   std::vector<ContactQueryResult> query_out_;
   std::vector<bool> relevant_;
+  std::vector<int> active_;  ///< probes beyond their allowance (response)
+  std::vector<int> rows_;    ///< one active probe per cluster of radius L (response)
+  std::vector<int> near_;    ///< probes near contact, candidates for rows (response)
+  Eigen::MatrixXd psi_;      ///< N×rows push kernel ψ_k(p_b) (response)
+  Eigen::Matrix3Xd best_centres_;  ///< centres of the best iterate (response)
+  Eigen::Matrix3Xd best_probes_;   ///< probes of the best iterate (response)
+  double last_step_mm_ = 0.0;  ///< longest centre move of the last response step (mm)
   ContactReport report_;
 };
 

@@ -1,8 +1,9 @@
 /// Bone contacts of the RBFMuscle component through the host (issue 5): the gluteus maximus
 /// over 0°, 10°, 20° hip flexion against the pelvis and femur meshes, measured only (the
-/// default) and with the response on.
+/// default) and with the response on; the iliacus against the pelvis proxy with the response.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -96,6 +97,64 @@ TEST(RBFMuscleContacts, ResponseKeepsTheGluteusOutOfTheBones) {
     EXPECT_GE(row[substeps], 1.0);
     EXPECT_LE(row[substeps], 8.0);
   }
+}
+
+/// The iliacus (cached surface, no fibres, response on) over flexion 0 → `last_deg` in 1°
+/// frames, in `dir`; returns the output table.
+StorageTable runIliacus(const std::string& name, int last_deg) {
+  const fs::path dir = testDir(name);
+  std::ofstream motion(dir / "motion.mot");
+  motion << "flexion\nversion=1\nnRows=" << last_deg + 1 << "\nnColumns=4\ninDegrees=yes\nendheader\n"
+         << "time\thip_flexion_r\thip_adduction_r\thip_rotation_r\n";
+  for (int deg = 0; deg <= last_deg; ++deg) motion << deg / 30.0 << "\t" << deg << "\t0\t0\n";
+  motion.close();
+  std::ofstream(dir / "model.xml") << "<?xml version=\"1.0\"?>\n<RBFMuscleModel version=\"1\" name=\"iliacus_contacts\">\n"
+                                   << "  <skeleton file=\"" << (kHip / "hip_r.urdf").string() << "\"/>\n"
+                                   << "  <plugin file=\"librbfmuscle_plugin.so\"/>\n"
+                                   << "  <motion file=\"" << (dir / "motion.mot").string() << "\"/>\n"
+                                   << "  <components>\n    <RBFMuscle name=\"iliacus_r\">\n"
+                                   << "      <mesh_file>" << (kHip / "meshes/iliacus_r.ply").string() << "</mesh_file>\n"
+                                   << "      <surface_file>" << (kHip / "surfaces/iliacus_r.rbf").string()
+                                   << "</surface_file>\n"
+                                   << "      <centres>2000</centres>\n"
+                                   << "      <origin_landmarks_mm>138.474 235.451 -324.078</origin_landmarks_mm>\n"
+                                   << "      <insertion_landmarks_mm>124.427 265.109 -493.253</insertion_landmarks_mm>\n"
+                                   << "      <landmark_radius_mm>25</landmark_radius_mm>\n"
+                                   << "      <fibres>0</fibres>\n"
+                                   << "      <contact_response>true</contact_response>\n"
+                                   << "      <socket_origin_body>pelvis</socket_origin_body>\n"
+                                   << "      <socket_insertion_body>femur_r</socket_insertion_body>\n"
+                                   << "    </RBFMuscle>\n  </components>\n</RBFMuscleModel>\n";
+  const test::HostResult r = test::runHost(
+      "run '" + (dir / "model.xml").string() + "' -o '" + (dir / "out").string() + "' --quiet", "plugin_contacts", name);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return readStorage((dir / "out/outputs.sto").string());
+}
+
+void expectEveryFrameWithinTolerance(const StorageTable& table, size_t frames) {
+  ASSERT_EQ(table.rows.size(), frames);
+  const int penetration = table.findColumn("iliacus_r.max_penetration_mm");
+  const int before = table.findColumn("iliacus_r.max_penetration_before_mm");
+  ASSERT_GE(penetration, 0);
+  ASSERT_GE(before, 0);
+  double worst_before = 0.0;
+  for (size_t f = 0; f < table.rows.size(); ++f) {
+    EXPECT_LE(table.rows[f][static_cast<size_t>(penetration)], 0.5) << "frame " << f << " (" << f << "°)";
+    worst_before = std::max(worst_before, table.rows[f][static_cast<size_t>(before)]);
+  }
+  EXPECT_GT(worst_before, 0.5);  // the deformer alone does press the iliacus into the pelvis
+}
+
+// The pelvis proxy presses the iliacus harder each degree (the blend prediction alone: 13 mm
+// at 80°); through 20° the response keeps every frame within the tolerance.
+TEST(RBFMuscleContacts, IliacusStaysOutOfThePelvisThrough20DegreesOfFlexion) {
+  expectEveryFrameWithinTolerance(runIliacus("iliacus_20", 20), 21);
+}
+
+// Open (issue 5): from about 30° the response stops at its iteration cap with probes up to
+// 3–3.4 mm deep (46–48 of 81 frames above 0.5 mm, measured 2026-11-23); see models/hip/README.md.
+TEST(RBFMuscleContacts, DISABLED_IliacusStaysOutOfThePelvisThrough80Degrees_Fails3mmFrom30Degrees) {
+  expectEveryFrameWithinTolerance(runIliacus("iliacus_80", 80), 81);
 }
 
 }  // namespace

@@ -82,6 +82,40 @@ TEST(ContactResolver, SpherePressedByMovingBoxEndsWithinToleranceAttachedCentreU
   EXPECT_TRUE(field.getCentres().col(1) == kAttachedCentre);
 }
 
+TEST(ContactResolver, DeepPressIsResolvedInAFewIterations) {
+  // A box face 4 mm into the sphere's top in one frame: the push moves the sphere down by the
+  // depth (the first-order model of the probes' signed distances is exact for a translation).
+  GaussianField field = makeTwoSpheres();
+  const double half = 50.0;
+  ContactResolver resolver = makeResolver(makeBox(half, half), kRadius + 2.0 + half, field);
+  const Eigen::Matrix3Xd carried = makeProbes(300);
+  const ContactReport& r = resolver.resolve({translationY(kRadius - 4.0 + half)}, carried, field, true);
+  EXPECT_NEAR(r.max_penetration_before_mm, 4.0, 0.05);
+  EXPECT_EQ(r.stop, ContactStop::kWithinTolerance);
+  EXPECT_LE(r.iterations, 4);
+  const double top = field.getCentres()(1, 0) + kRadius;
+  EXPECT_LE(top, kRadius - 4.0 + 0.5);
+  EXPECT_GE(top, kRadius - 4.0 - 1.0);
+}
+
+TEST(ContactResolver, FreeShareSeparatesFreeAndAttachedSurface) {
+  // Probes 0…299 lie on the free sphere, 300…599 on the attached one (makeProbes).
+  GaussianField field = makeTwoSpheres();
+  ContactResolver resolver = makeResolver(makeBox(50, 50), 62.0, field);
+  EXPECT_GT(resolver.getFreeShares().head(300).minCoeff(), 0.999);
+  EXPECT_LT(resolver.getFreeShares().tail(300).maxCoeff(), 1e-3);
+  // A bone pressing the attached sphere only: penetration there, none on the free surface,
+  // and the response has no free centre to move.
+  GaussianField attached_field = makeTwoSpheres();
+  ContactResolver pressed({ContactBone{"bone", makeBox(50, 50), Eigen::Isometry3d(Eigen::Translation3d(100, 62, 0))}},
+                          attached_field, makeProbes(300), {true, false});
+  const ContactReport& r = pressed.resolve({Eigen::Isometry3d(Eigen::Translation3d(100, 58, 0))}, makeProbes(300),
+                                           attached_field, true);
+  EXPECT_NEAR(r.max_penetration_mm, 2.0, 0.05);
+  EXPECT_EQ(r.max_penetration_free_mm, 0.0);
+  EXPECT_EQ(r.stop, ContactStop::kNoFreeCentre);
+}
+
 TEST(ContactResolver, ThinPlateSweptThroughSphereTunnelsWithoutSubstepsAndIsCaughtWithThem) {
   const TriangleMesh plate = makeBox(30.0, 2.0);  // 60 × 4 × 60 mm
   const Eigen::Isometry3d start = translationY(14.0), end = translationY(-2.0);  // y ∈ [12, 16] → [−4, 0]
