@@ -91,9 +91,11 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     transforms_[b] = toDualQuaternion(bone_motion_M[b]);
   }
   auto start = std::chrono::steady_clock::now();
-  // Every frame starts from the rest weights: the guard's changes are made for this
-  // frame's shape and are not carried, so they cannot pile up over many small steps.
-  field_.setWeights(rest_field_.getWeights());
+  // With warm start the guard's weight changes are carried: a piece it joined stays
+  // joined in the next frame instead of being rejoined (or not) from the rest weights,
+  // which made the surface jump by up to 19 mm between 1° frames. The weight limits bound
+  // what can pile up. Without warm start every frame starts from the rest weights.
+  if (!(settings_.warm_start && has_previous_)) field_.setWeights(rest_field_.getWeights());
   predictCentres(rest_field_.getCentres(), attachments_, centre_weights_, transforms_, predicted_centres_mm_);
   if (settings_.warm_start && has_previous_) {
     // Previous corrected centres carried by the change of the prediction; attached
@@ -134,28 +136,29 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   VolumeReport volume = volume_keeper_->correct(field_, current_points_mm_, jacobians_);
   result_.volume_ms = msSince(start);
 
-  // Islands, then the volume again (lowering them loses volume, and raising b to
-  // restore it can lift a lowered island back above zero): repeated while the guard
-  // changes something, at most kGuardPasses times, and the count after the last
-  // volume step is what islands_left reports.
+  // Islands, then the volume again (lowering them loses volume, and moving b to restore
+  // it can bring a lowered island back above zero or split a bridge), at most kGuardPasses
+  // times. The last pass ends with the guard, whose own rounds stop at one piece: the
+  // surface handed on is then whole, and its volume, measured, is off only by what that
+  // last repair moved (a bridge or a crumb, tens of mm³).
   constexpr int kGuardPasses = 5;
   result_.topology_ms = 0.0;
   result_.islands_found = 0;
   for (int pass = 0;; ++pass) {
     start = std::chrono::steady_clock::now();
-    TopologyReport topology;
-    if (pass < kGuardPasses) {
-      topology = topology_guard_->run(field_, calcCurrentBox());
-    } else {
-      topology.defects_left = std::max(0, topology_guard_->countPieces(field_, calcCurrentBox()) - 1);
-      topology.stop_reason = topology.defects_left == 0 ? TopologyStop::kOnePiece : TopologyStop::kRoundCap;
-    }
+    const TopologyReport topology = topology_guard_->run(field_, calcCurrentBox());
     result_.topology_ms += msSince(start);
     result_.islands_found += topology.islands_found + topology.cavities_found;
     result_.islands_left = topology.defects_left;
     result_.topology_stop = topology.stop_reason;
     if (topology.weights_changed == 0) break;
     start = std::chrono::steady_clock::now();
+    if (pass + 1 == kGuardPasses) {
+      volume.volume_mm3 = volume_keeper_->calcVolume(field_, current_points_mm_, jacobians_);
+      volume.volume_ratio = volume.volume_mm3 / volume_keeper_->getRestVolume();
+      result_.volume_ms += msSince(start);
+      break;
+    }
     volume = volume_keeper_->correct(field_, current_points_mm_, jacobians_);
     result_.volume_ms += msSince(start);
   }

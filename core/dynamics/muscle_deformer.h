@@ -33,9 +33,10 @@ struct DeformerSettings {
   /// prediction at each volume point; ≤ 0 means "h/2".
   double jacobian_step_mm = 0.0;
   /// true: each frame's descent starts from the previous frame's corrected centres
-  /// moved by the change of the prediction (ξ_prev + P_now − P_prev), and the volume
-  /// step from the previous offset b; false: every frame starts from the prediction
-  /// and b_rest. Either way the same sequence of transforms gives the same fields.
+  /// moved by the change of the prediction (ξ_prev + P_now − P_prev), with the previous
+  /// weights (the guard's changes carried) and the volume step from the previous offset b;
+  /// false: every frame starts from the prediction, the rest weights and b_rest. Either
+  /// way the same sequence of transforms gives the same fields.
   bool warm_start = true;
   /// Cut-off ε on φ of the deformed field (GaussianField::setCutoff): centre k is ignored
   /// where φₖ < ε. In [0, 1). (1e-4 was measured no faster than 1e-8 on the gluteus 1000.)
@@ -74,7 +75,8 @@ struct DeformResult {
 ///  4. one piece (topology_guard.h): through the weights of free centres, crumbs that
 ///     came apart from the body are lowered below zero, larger pieces are joined back
 ///     and cavities filled; then step 3 runs again, and both repeat while the guard
-///     changes something (at most 5 passes, then a last count).
+///     changes something (at most 5 passes, the last one ending with the guard, so the
+///     surface is one piece and its volume, measured, off by the last repair only).
 /// With warm_start (default) a frame starts from the previous frame's result carried
 /// by the change of prediction, so the result depends on the sequence of transforms
 /// (identical sequences give bitwise identical fields); without it each frame starts

@@ -180,6 +180,7 @@ bool TopologyGuard::changeValueAt(const GaussianField& field, const Eigen::Vecto
       if (!free_only || free_mask_[static_cast<size_t>(k)]) norm += std::abs(weights(k)) * phi * phi;
     }
     if (!(norm > 0.0)) continue;
+    bool changed = false;
     for (int a = 0; a < active_.size(); ++a) {
       const int k = active_.indices[static_cast<size_t>(a)];
       if (free_only && !free_mask_[static_cast<size_t>(k)]) continue;
@@ -189,17 +190,23 @@ bool TopologyGuard::changeValueAt(const GaussianField& field, const Eigen::Vecto
       const double step = std::clamp(change * active_.phi[static_cast<size_t>(a)] / norm, -1.0, 1.0);
       const double updated = weights(k) + step * std::abs(weights(k));
       const double limit = max_abs_weights_(k);
-      weights(k) = weights(k) > 0.0 ? std::clamp(updated, 0.0, limit) : std::clamp(updated, -limit, 0.0);
-      ++report.weights_changed;
+      const double clamped = weights(k) > 0.0 ? std::clamp(updated, 0.0, limit) : std::clamp(updated, -limit, 0.0);
+      if (clamped != weights(k)) {
+        weights(k) = clamped;
+        ++report.weights_changed;
+        changed = true;
+      }
     }
-    return true;
+    return changed;
   }
   return false;
 }
 
-Eigen::Vector3d TopologyGuard::findGap(const GaussianField& field, int island, int body) const {
+std::int64_t TopologyGuard::findGapNode(int island, int body) const {
   // Closest pair of nodes (island, body), the body searched within the island's box
-  // grown by kReach_mm; then the lowest point of f on the segment between them.
+  // grown by kReach_mm; then the lowest node on the segment between them. A node, not
+  // the lowest point between nodes: the pieces the extraction bounds are joined through
+  // nodes, so raising a point between two outside nodes would join nothing.
   constexpr double kReach_mm = 40.0;
   Eigen::AlignedBox3d island_box;
   for (const std::int64_t id : inside_ids_)
@@ -222,15 +229,13 @@ Eigen::Vector3d TopologyGuard::findGap(const GaussianField& field, int island, i
     }
   }
   const int steps = std::max(2, static_cast<int>(std::ceil(2.0 * std::sqrt(best) / grid_.cell_mm)));
-  Eigen::Vector3d lowest = from;
-  double lowest_value = std::numeric_limits<double>::infinity();
-  for (int i = 1; i < steps; ++i) {
-    const Eigen::Vector3d x = from + (to - from) * (double(i) / steps);
-    const double v = field.calcValue(x);
-    if (v < lowest_value) {
-      lowest_value = v;
-      lowest = x;
-    }
+  std::int64_t lowest = -1;
+  for (int i = 0; i <= steps; ++i) {
+    const Eigen::Vector3d u = (from + (to - from) * (double(i) / steps) - grid_.origin_mm) / grid_.cell_mm;
+    const std::int64_t id = static_cast<std::int64_t>(std::lround(u.x())) +
+                            grid_.counts[0] * (static_cast<std::int64_t>(std::lround(u.y())) +
+                                               grid_.counts[1] * static_cast<std::int64_t>(std::lround(u.z())));
+    if (lowest < 0 || value_of_node_[static_cast<size_t>(id)] < value_of_node_[static_cast<size_t>(lowest)]) lowest = id;
   }
   return lowest;
 }
@@ -274,10 +279,16 @@ TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3
       } else if (piece_size_[static_cast<size_t>(piece)] < settings_.bridge_nodes) {  // crumb: top down to −margin
         changed |= changeValueAt(field, grid_.node(node), -(value + settings_.margin), weights, report);
         ++report.islands_removed;
-      } else {  // a piece of muscle: the lowest point between it and the body up to +margin
-        const Eigen::Vector3d gap = findGap(field, piece, body);
-        changed |= changeValueAt(field, gap, settings_.margin - field.calcValue(gap), weights, report);
-        ++report.islands_bridged;
+      } else {  // a piece of muscle: the lowest node between it and the body up to +margin
+        const std::int64_t gap = findGapNode(piece, body);
+        if (changeValueAt(field, grid_.node(gap), settings_.margin - value_of_node_[static_cast<size_t>(gap)], weights,
+                          report)) {
+          changed = true;
+          ++report.islands_bridged;
+        } else {  // no weight can raise the gap (all at their limits): remove the piece instead
+          changed |= changeValueAt(field, grid_.node(node), -(value + settings_.margin), weights, report);
+          ++report.islands_removed;
+        }
       }
     }
     if (!changed) {

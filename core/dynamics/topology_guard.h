@@ -78,8 +78,9 @@ struct TopologyReport {
 /// of {f ≤ 0} not joined to the box faces is a cavity. Each defect gets one change of f at one
 /// point x*: a cavity is raised to +margin at its lowest node; an island smaller than
 /// bridge_nodes (a crumb) is lowered to −margin at its highest node; a larger island
-/// is a piece of muscle and is joined back: x* is the lowest point of f on the segment
-/// between the closest (island, body) pair of nodes, raised to +margin. The change is
+/// is a piece of muscle and is joined back: x* is the lowest node on the segment
+/// between the closest (island, body) pair of nodes, raised to +margin (one node per
+/// round; when no weight can raise it, the island is lowered as a crumb instead). The change is
 /// made through the weights of the free centres active at x* (the attached ones only
 /// when no free one is), by the smallest change in Σ Δλₖ²/|λₖ| that makes f(x*) change
 /// by Δf:
@@ -110,11 +111,12 @@ class TopologyGuard {
   const TopologySettings& getSettings() const { return settings_; }
 
  private:
-  /// Changes f(x) by `change` through `weights` (see class comment); false if no centre is active at x.
+  /// Changes f(x) by `change` through `weights` (see class comment); false if no weight
+  /// changed (no centre active at x, or every one at its limit or zero).
   bool changeValueAt(const GaussianField& field, const Eigen::Vector3d& x_mm, double change, Eigen::VectorXd& weights,
                      TopologyReport& report);
-  /// The lowest point of f on the segment joining the closest nodes of `island` and `body`.
-  Eigen::Vector3d findGap(const GaussianField& field, int island, int body) const;
+  /// The lowest node on the segment joining the closest nodes of `island` and `body`.
+  std::int64_t findGapNode(int island, int body) const;
   /// f on the nodes of `grid` into value_of_node_: in full when the grid, the centres, the
   /// shapes or the cut-off differ from the last evaluation, else by adding the change of
   /// the weights and the offset (equal up to rounding).
