@@ -14,7 +14,8 @@ namespace rbfmuscle {
 struct QuadratureSettings {
   int target_count = 4000;  ///< wanted number of points (the result is within ~±20 %), ≥ 8
   /// β (field unit, mm for a clamped signed distance fit): keep grid nodes with f > −β.
-  /// The default 0.8·τ (τ = 5 mm) keeps the inside and a shell of ~4 mm around the surface.
+  /// The default keeps the inside and a shell of ~4 mm around the surface (a signed-distance
+  /// fit rises by ~1 per mm across its surface, up to its clamp τ, 10 mm by default).
   double band_value = 4.0;
   int coarse_cells = 48;    ///< cells per box side of the scan that finds the band's box, ≥ 4
 };

@@ -18,7 +18,7 @@ struct VolumeSettings {
   double heaviside_width = 0.0;
   double tolerance = 1e-3;     ///< stop when |V/V_rest − 1| ≤ this
   int max_iterations = 20;     ///< Newton/bisection cap, ≥ 1
-  /// Largest total change of b from its rest value (field unit; τ/2 for τ = 5 mm).
+  /// Largest total change of b from its rest value (field unit, ≈ mm across the surface of a signed-distance fit).
   double max_offset_change = 2.5;
   bool enabled = true;         ///< false: measure only, never change b
 };

@@ -12,7 +12,14 @@ namespace rbfmuscle {
 struct FitSettings {
   int max_centres = 1000;          ///< centre budget N
   double tolerance_mm = 0.0;       ///< stop early when the RMS residual on surface samples ≤ this (0 = budget only)
-  double clamp_mm = 5.0;           ///< τ: target t(x) = clamp(−s(x), −τ, τ), offset b = −τ (mm)
+  /// τ: target t(x) = clamp(−s(x), −τ, τ), offset b = −τ (mm). 10 rather than 5: with the
+  /// target clamped close to the surface the fit builds the muscle from wide positive
+  /// Gaussians carved by narrow negative ones (gluteus maximus, 1000 centres: negative
+  /// weights sum to 0.86 of the positive ones at τ 5, 0.50 at τ 10), and a carved field
+  /// tears when the motion moves the carving centres (islands, surface jumps of 10–19 mm
+  /// between 1° frames). Measured fits, τ 5 → 10: gluteus maximus Jaccard 0.977 → 0.974,
+  /// max distance 2.54 → 1.47 mm; iliacus (2000) 0.972 → 0.973, 0.95 → 1.36 mm.
+  double clamp_mm = 10.0;
   double normal_offset_mm = 1.0;   ///< d: samples ±d along the vertex normals (mm)
   int halton_samples = 30000;      ///< Halton(2,3,5) samples in the padded box
   double padding_fraction = 0.1;   ///< box padding, fraction of the largest box side on each side

@@ -26,7 +26,7 @@ const char* const kFitUsage =
     "  -o, --output FILE       fitted surface (.rbf, text, versioned) — required\n"
     "  --surface FILE          also write the extracted f = 0 surface as PLY (source frame, mm)\n"
     "  --tolerance-mm T        stop early when the RMS error on surface samples ≤ T [0: off]\n"
-    "  --clamp-mm TAU          clamp of the signed-distance target [5]\n"
+    "  --clamp-mm TAU          clamp of the signed-distance target [10]\n"
     "  --normal-offset-mm D    samples ±D along vertex normals [1]\n"
     "  --halton N              Halton samples in the padded box [30000]\n"
     "  --shapes A,B,...        shape set α in mm^-2 [0.005 … 0.5]\n"
