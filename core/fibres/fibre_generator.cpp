@@ -50,13 +50,21 @@ std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& re
       }
     if (static_cast<int>(candidates.size()) >= count) break;
   }
-  // Deep nodes only, when there are enough of them at this radius.
-  if (static_cast<int>(deep.size()) >= count) candidates.swap(deep);
   if (static_cast<int>(candidates.size()) < count)
     throw std::invalid_argument(std::string("generateFibres: only ") + std::to_string(candidates.size()) +
                                 " interior grid nodes near the " + which + " region (radius " +
                                 std::to_string(radius) + " mm) for " + std::to_string(count) + " fibres");
   used_radius = radius;
+  // Deep nodes only when there are enough of them at this radius, else the `count`
+  // deepest: the shallow ones are the first to fall outside when the surface near the
+  // attachment moves.
+  if (static_cast<int>(deep.size()) >= count) {
+    candidates.swap(deep);
+  } else {
+    std::stable_sort(candidates.begin(), candidates.end(), [&](int a, int b) { return grid.values(a) > grid.values(b); });
+    candidates.resize(static_cast<size_t>(count));
+    std::sort(candidates.begin(), candidates.end());
+  }
   // Farthest-point sampling from the candidate nearest the first region point.
   int first = candidates[0];
   double best = std::numeric_limits<double>::infinity();

@@ -7,11 +7,13 @@
 ///  1. the inside {f ≥ margin} is sampled on a regular grid (interior_grid.h);
 ///  2. start candidates are the interior nodes within r of an origin region point
 ///     (r = attachment_radius_mm, grown ×1.5 until there are ≥ N candidates, cap 8);
-///     among them, only the nodes with f ≥ end_depth when there are ≥ N such nodes
-///     (why: the fibre ends move rigidly with their bones while the surface near the
-///     attachment deforms; on the gluteus at 30–80° hip flexion ends picked at the
-///     surface (f ≈ margin) fell up to ≈ 0.6 field units outside — they were 163 of the
-///     164 points outside — and they may not be projected off their attachment);
+///     among them, only the nodes with f ≥ end_depth when there are ≥ N such nodes, else
+///     the N deepest (why: the fibre ends move rigidly with their bones while the surface
+///     near the attachment deforms; on the gluteus at 30–80° hip flexion ends picked at
+///     the surface (f ≈ margin) fell up to ≈ 0.6 field units outside — they were 163 of
+///     the 164 points outside — and they may not be projected off their attachment; with
+///     the 10 mm clamp of the fits, ends at depth 2 fell up to 1.2 outside, the N deepest
+///     at most 0.27, one fibre end of the gluteus in 21 of 81 frames);
 ///     N start points are chosen by farthest-point sampling (first: the candidate
 ///     nearest the first region point), so they spread evenly over the attachment area;
 ///     the same for the end points at the insertion;
@@ -47,9 +49,10 @@ struct FibreSettings {
   int count = 100;                   ///< N fibres, ≥ 1
   int segments = 15;                 ///< S segments per fibre, ≥ 1
   double attachment_radius_mm = 10;  ///< r: start/end candidates within r of a region point (mm), > 0
-  /// Fibre ends are nodes with f ≥ end_depth when r holds ≥ N of them (field unit ≈ mm of
-  /// depth, see file comment step 2), finite; ≤ margin means any interior node.
-  double end_depth = 2.0;
+  /// Fibre ends are nodes with f ≥ end_depth when r holds ≥ N of them, else the N deepest
+  /// (field unit ≈ mm of depth, see file comment step 2), finite; ≤ margin means any
+  /// interior node.
+  double end_depth = 4.0;
   int grid_nodes = 20000;            ///< interior grid nodes, ≥ 8
   double centre_preference = 1.0;    ///< c ≥ 0 of findShortestPath
   int smoothing_iterations = 20;     ///< relaxation rounds (smoothing, spreading, projection), ≥ 0

@@ -199,19 +199,22 @@ TEST(IliacusDynamics, FlexionTo80InOneDegreeSteps) {
   runFlexion(iliacus(), iliacusAttachments(iliacus()), 1, 80, false);
 }
 
-// Issue 4 also asks that no frame jumps further than the bone moves. Where the guard
-// removes or rejoins a piece, or the descent pops a bump, the surface jumps: at 1° steps
-// by up to 19 mm beyond the femur's move (gluteus, 60–63°; iliacus, 48–72°), at 10°
-// steps by up to 4.6 mm (gluteus 70°).
-TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo19mm_Issue4Open) {
+// Issue 4 also asks that no frame jumps further than the bone moves. Before the guard's
+// weight changes were carried from frame to frame and the fits were clamped at 10 mm,
+// pieces were rejoined (or not) afresh every frame and the surface jumped by up to 19 mm
+// beyond the femur's move at 1° steps. What is left, beyond the femur's move plus 1 mm:
+// at 1° steps the gluteus by up to 3.3 mm (52°, where the field is flat: |∇f| ≈ 0.13 at
+// the jumping points) and the iliacus by up to 0.75 mm; at 10° steps the gluteus by up to
+// 3.4 mm (80°).
+TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo3_3mm_Issue4Open) {
   runFlexion(gluteus(), gluteusAttachments(gluteus()), 1, 80, true);
 }
 
-TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtTenDegreeSteps_JumpsUpTo4_6mm_Issue4Open) {
+TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtTenDegreeSteps_JumpsUpTo3_4mm_Issue4Open) {
   runFlexion(gluteus(), gluteusAttachments(gluteus()), 10, 80, true);
 }
 
-TEST(IliacusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo19mm_Issue4Open) {
+TEST(IliacusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo0_75mm_Issue4Open) {
   runFlexion(iliacus(), iliacusAttachments(iliacus()), 1, 80, true);
 }
 

@@ -1,0 +1,74 @@
+/// The main job, models/hip/hip_flexion.xml (gluteus maximus and iliacus, 0→80° hip
+/// flexion in 1° frames), run through the host exactly as the README does: every frame
+/// finite, volume kept, and fibre lengths continuous (issue 6: no fibre changes length by
+/// more than 1 % between 1° frames). Fibre points outside are printed; that they stay
+/// inside is checked at 10° frames by fibres_test.cpp.
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "model/storage_file.h"
+#include "support/run_host.h"
+
+namespace rbfmuscle {
+namespace {
+
+namespace fs = std::filesystem;
+
+TEST(HipFlexionScene, FibreLengthsContinuousAndVolumeKeptEveryFrame) {
+  const std::string tag = "hip_flexion_scene_" + std::to_string(::getpid());
+  const fs::path out = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin" / tag;
+  fs::remove_all(out);
+  const fs::path model = fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip/hip_flexion.xml";
+  const test::HostResult result = test::runHost("run '" + model.string() + "' -o '" + out.string() + "' --quiet",
+                                                "plugin", tag);
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const StorageTable table = readStorage((out / "outputs.sto").string());
+  ASSERT_EQ(table.rows.size(), 81u);
+  auto column = [&](const std::string& label) {
+    const int c = table.findColumn(label);
+    EXPECT_GE(c, 0) << label;
+    return c;
+  };
+  for (const std::string muscle : {"glmax_r", "iliacus_r"}) {
+    const int volume = column(muscle + ".volume_ratio"), outside = column(muscle + ".fiber_points_outside");
+    int outside_total = 0, outside_frames = 0;
+    std::vector<int> fibre(100);
+    for (int i = 0; i < 100; ++i) {
+      fibre[static_cast<size_t>(i)] = column(muscle + ".fiber_length_mm_" + std::to_string(i));
+      ASSERT_GE(fibre[static_cast<size_t>(i)], 0);
+    }
+    double worst_step = 0.0;
+    int worst_frame = 0, worst_fibre = 0;
+    for (size_t row = 0; row < table.rows.size(); ++row) {
+      const std::vector<double>& r = table.rows[row];
+      EXPECT_NEAR(r[static_cast<size_t>(volume)], 1.0, 0.03) << muscle << " frame " << row;
+      outside_total += static_cast<int>(r[static_cast<size_t>(outside)]);
+      outside_frames += r[static_cast<size_t>(outside)] > 0.0;
+      for (int i = 0; i < 100; ++i) {
+        const size_t c = static_cast<size_t>(fibre[static_cast<size_t>(i)]);
+        const double length = r[c];
+        ASSERT_TRUE(std::isfinite(length)) << muscle << " fibre " << i << " frame " << row;
+        if (row == 0) continue;
+        const double step = std::abs(length / table.rows[row - 1][c] - 1.0);
+        if (step > worst_step) {
+          worst_step = step;
+          worst_frame = static_cast<int>(row);
+          worst_fibre = i;
+        }
+      }
+    }
+    std::printf("%s: largest fibre length step %.3f %% (fibre %d, %d°); fibre points outside %d in %d frames\n",
+                muscle.c_str(), 100.0 * worst_step, worst_fibre, worst_frame, outside_total, outside_frames);
+    EXPECT_LE(worst_step, 0.01) << muscle << " fibre " << worst_fibre << " at " << worst_frame << "°";
+  }
+  fs::remove_all(out);
+}
+
+}  // namespace
+}  // namespace rbfmuscle
