@@ -202,9 +202,9 @@ bool TopologyGuard::changeValueAt(const GaussianField& field, const Eigen::Vecto
   return false;
 }
 
-std::int64_t TopologyGuard::findGapNode(int island, int body) const {
+void TopologyGuard::findGapNodes(int island, int body, std::vector<std::int64_t>& gap) const {
   // Closest pair of nodes (island, body), the body searched within the island's box
-  // grown by kReach_mm; then the lowest node on the segment between them. A node, not
+  // grown by kReach_mm; then the outside nodes on the segment between them. Nodes, not
   // the lowest point between nodes: the pieces the extraction bounds are joined through
   // nodes, so raising a point between two outside nodes would join nothing.
   constexpr double kReach_mm = 40.0;
@@ -229,15 +229,25 @@ std::int64_t TopologyGuard::findGapNode(int island, int body) const {
     }
   }
   const int steps = std::max(2, static_cast<int>(std::ceil(2.0 * std::sqrt(best) / grid_.cell_mm)));
-  std::int64_t lowest = -1;
+  gap.clear();
   for (int i = 0; i <= steps; ++i) {
     const Eigen::Vector3d u = (from + (to - from) * (double(i) / steps) - grid_.origin_mm) / grid_.cell_mm;
     const std::int64_t id = static_cast<std::int64_t>(std::lround(u.x())) +
                             grid_.counts[0] * (static_cast<std::int64_t>(std::lround(u.y())) +
                                                grid_.counts[1] * static_cast<std::int64_t>(std::lround(u.z())));
-    if (lowest < 0 || value_of_node_[static_cast<size_t>(id)] < value_of_node_[static_cast<size_t>(lowest)]) lowest = id;
+    if (value_of_node_[static_cast<size_t>(id)] <= 0.0 && (gap.empty() || gap.back() != id)) gap.push_back(id);
   }
-  return lowest;
+}
+
+double TopologyGuard::valueWithChanges(const GaussianField& field, const Eigen::VectorXd& weights,
+                                       std::int64_t node) {
+  field.findActiveCentres(grid_.node(node), active_);
+  double value = value_of_node_[static_cast<size_t>(node)];
+  for (int a = 0; a < active_.size(); ++a) {
+    const int k = active_.indices[static_cast<size_t>(a)];
+    value += (weights(k) - field.getWeights()(k)) * active_.phi[static_cast<size_t>(a)];
+  }
+  return value;
 }
 
 TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3d& box_mm) {
@@ -279,10 +289,14 @@ TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3
       } else if (piece_size_[static_cast<size_t>(piece)] < settings_.bridge_nodes) {  // crumb: top down to −margin
         changed |= changeValueAt(field, grid_.node(node), -(value + settings_.margin), weights, report);
         ++report.islands_removed;
-      } else {  // a piece of muscle: the lowest node between it and the body up to +margin
-        const std::int64_t gap = findGapNode(piece, body);
-        if (changeValueAt(field, grid_.node(gap), settings_.margin - value_of_node_[static_cast<size_t>(gap)], weights,
-                          report)) {
+      } else {  // a piece of muscle: the outside nodes between it and the body up to +margin
+        findGapNodes(piece, body, gap_nodes_);
+        bool bridged = false;
+        for (const std::int64_t gap : gap_nodes_) {
+          const double now = valueWithChanges(field, weights, gap);  // an earlier raise may have lifted it
+          if (now <= 0.0) bridged |= changeValueAt(field, grid_.node(gap), settings_.margin - now, weights, report);
+        }
+        if (bridged) {
           changed = true;
           ++report.islands_bridged;
         } else {  // no weight can raise the gap (all at their limits): remove the piece instead

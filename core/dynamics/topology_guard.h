@@ -75,12 +75,12 @@ struct TopologyReport {
 /// labels the pieces of inside nodes connected along the edges of its Kuhn tetrahedra
 /// (offsets in {0, 1}³ \ {0} and their negatives: 14 neighbours), which are the pieces
 /// the extracted surface bounds. Every piece but the largest is an island; every piece
-/// of {f ≤ 0} not joined to the box faces is a cavity. Each defect gets one change of f at one
-/// point x*: a cavity is raised to +margin at its lowest node; an island smaller than
+/// of {f ≤ 0} not joined to the box faces is a cavity. Each defect gets changes of f at
+/// nodes x* per round: a cavity is raised to +margin at its lowest node; an island smaller than
 /// bridge_nodes (a crumb) is lowered to −margin at its highest node; a larger island
-/// is a piece of muscle and is joined back: x* is the lowest node on the segment
-/// between the closest (island, body) pair of nodes, raised to +margin (one node per
-/// round; when no weight can raise it, the island is lowered as a crumb instead). The change is
+/// is a piece of muscle and is joined back: every node with f ≤ 0 on the segment
+/// between the closest (island, body) pair of nodes is raised to +margin, in path order
+/// (when no weight can raise them, the island is lowered as a crumb instead). The change is
 /// made through the weights of the free centres active at x* (the attached ones only
 /// when no free one is), by the smallest change in Σ Δλₖ²/|λₖ| that makes f(x*) change
 /// by Δf:
@@ -115,8 +115,10 @@ class TopologyGuard {
   /// changed (no centre active at x, or every one at its limit or zero).
   bool changeValueAt(const GaussianField& field, const Eigen::Vector3d& x_mm, double change, Eigen::VectorXd& weights,
                      TopologyReport& report);
-  /// The lowest node on the segment joining the closest nodes of `island` and `body`.
-  std::int64_t findGapNode(int island, int body) const;
+  /// The nodes with f ≤ 0 on the segment joining the closest nodes of `island` and `body`, in path order.
+  void findGapNodes(int island, int body, std::vector<std::int64_t>& gap) const;
+  /// f at `node` with this round's weight changes (`weights` against the field's own).
+  double valueWithChanges(const GaussianField& field, const Eigen::VectorXd& weights, std::int64_t node);
   /// f on the nodes of `grid` into value_of_node_: in full when the grid, the centres, the
   /// shapes or the cut-off differ from the last evaluation, else by adding the change of
   /// the weights and the offset (equal up to rounding).
@@ -139,6 +141,7 @@ class TopologyGuard {
   std::vector<std::int64_t> piece_top_;  ///< highest node of each piece, lowest of each cavity
   std::vector<std::uint8_t> exterior_;   ///< 1: a node of {f ≤ 0} already reached (from the faces or a cavity)
   std::vector<std::int64_t> queue_;
+  std::vector<std::int64_t> gap_nodes_;  ///< outside nodes of the bridge being made
   ActiveCentres active_;
   // The field of the last evaluation (updateValues).
   Eigen::Matrix3Xd evaluated_centres_mm_;
