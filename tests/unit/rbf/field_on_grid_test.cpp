@@ -27,13 +27,19 @@ void expectMatchesPointValues(const GaussianField& field, const RegularGrid& gri
   expectMatchesPointValues(field, grid, values);
 }
 
-TEST(FieldOnGrid, EqualsPointValuesWithAndWithoutCutoff) {
-  std::mt19937 rng(7);
-  GaussianField field = test::makeRandomField(rng, 60, 0.005, 2.0, 20.0, 1e-8);
+/// A grid over the random test fields' centres (placed within ±20 mm of the origin).
+RegularGrid gridThroughTheCentres() {
   RegularGrid grid;
   grid.origin_mm = Eigen::Vector3d(-23.3, -19.1, -21.7);
   grid.cell_mm = 1.7;
   grid.counts = {28, 25, 27};
+  return grid;
+}
+
+TEST(FieldOnGrid, EqualsPointValuesWithAndWithoutCutoff) {
+  std::mt19937 rng(7);
+  GaussianField field = test::makeRandomField(rng, 60, 0.005, 2.0, 20.0, 1e-8);
+  const RegularGrid grid = gridThroughTheCentres();
   expectMatchesPointValues(field, grid);
   field.setCutoff(1e-3);  // a coarse cut-off: the same centres must be left out
   expectMatchesPointValues(field, grid);
@@ -46,10 +52,7 @@ TEST(FieldOnGrid, EqualsPointValuesWithAndWithoutCutoff) {
 TEST(FieldOnGrid, AddingChangedWeightsEqualsNewValues) {
   std::mt19937 rng(11);
   GaussianField field = test::makeRandomField(rng, 60, 0.005, 2.0, 20.0, 1e-8);
-  RegularGrid grid;
-  grid.origin_mm = Eigen::Vector3d(-23.3, -19.1, -21.7);
-  grid.cell_mm = 1.7;
-  grid.counts = {28, 25, 27};
+  const RegularGrid grid = gridThroughTheCentres();
   std::vector<double> values;
   calcValuesOnGrid(field, grid, values);
   Eigen::VectorXd change = Eigen::VectorXd::Zero(field.getNumCentres());
