@@ -91,11 +91,6 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     transforms_[b] = toDualQuaternion(bone_motion_M[b]);
   }
   auto start = std::chrono::steady_clock::now();
-  // With warm start the guard's weight changes are carried: a piece it joined stays
-  // joined in the next frame instead of being rejoined (or not) from the rest weights,
-  // which made the surface jump by up to 19 mm between 1° frames. The weight limits bound
-  // what can pile up. Without warm start every frame starts from the rest weights.
-  if (!(settings_.warm_start && has_previous_)) field_.setWeights(rest_field_.getWeights());
   predictCentres(rest_field_.getCentres(), attachments_, centre_weights_, transforms_, predicted_centres_mm_);
   if (settings_.warm_start && has_previous_) {
     // Previous corrected centres carried by the change of the prediction; attached
@@ -105,7 +100,12 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
       if (attachments_.isAttached(k)) start_centres_mm_.col(k) = predicted_centres_mm_.col(k);
     field_.setCentrePositions(start_centres_mm_);
   } else {
+    // With warm start the weights (the guard's changes) are carried like the centres: a
+    // piece it joined stays joined in the next frame instead of being rejoined (or not)
+    // from the rest weights, which made the surface jump by up to 19 mm between 1° frames.
+    // The weight limits bound what can pile up.
     field_.setCentrePositions(predicted_centres_mm_);
+    field_.setWeights(rest_field_.getWeights());
     field_.setOffset(rest_field_.getOffset());
   }
   previous_predicted_mm_ = predicted_centres_mm_;

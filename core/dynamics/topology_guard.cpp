@@ -76,14 +76,13 @@ int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& 
   grid.counts = countIsoSurfaceNodes(box_mm, settings_.cell_mm);
   updateValues(field, grid);
   const std::int64_t nx = grid_.counts[0], ny = grid_.counts[1], nz = grid_.counts[2];
-  auto nodeOf = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + nx * (j + ny * k); };
   // Inside nodes; box-face nodes count as outside, as in the extraction.
   piece_of_node_.assign(static_cast<size_t>(grid_.size()), kOutside);
   inside_ids_.clear();
   for (std::int64_t k = 1; k < nz - 1; ++k)
     for (std::int64_t j = 1; j < ny - 1; ++j)
       for (std::int64_t i = 1; i < nx - 1; ++i) {
-        const std::int64_t id = nodeOf(i, j, k);
+        const std::int64_t id = grid_.index(i, j, k);
         if (value_of_node_[static_cast<size_t>(id)] > 0.0) {
           piece_of_node_[static_cast<size_t>(id)] = kUnlabelled;
           inside_ids_.push_back(id);
@@ -101,7 +100,7 @@ int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& 
         for (int sign = -1; sign <= 1; sign += 2) {
           const std::int64_t a = i + sign * o[0], b = j + sign * o[1], c = k + sign * o[2];
           if (a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz) continue;
-          const std::int64_t next = nodeOf(a, b, c);
+          const std::int64_t next = grid_.index(a, b, c);
           if (take(next)) queue_.push_back(next);
         }
       }
@@ -150,7 +149,7 @@ int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& 
     for (std::int64_t j = 0; j < ny; ++j)
       for (std::int64_t i = 0; i < nx; ++i) {
         if (i != 0 && j != 0 && k != 0 && i != nx - 1 && j != ny - 1 && k != nz - 1) continue;
-        const std::int64_t id = nodeOf(i, j, k);
+        const std::int64_t id = grid_.index(i, j, k);
         exterior_[static_cast<size_t>(id)] = 1;
         queue_.push_back(id);
       }
@@ -202,15 +201,19 @@ bool TopologyGuard::changeValueAt(const GaussianField& field, const Eigen::Vecto
   return false;
 }
 
-void TopologyGuard::findGapNodes(int island, int body, std::vector<std::int64_t>& gap) const {
+void TopologyGuard::findGapNodes(int island, int body, std::vector<std::int64_t>& gap) {
   // Closest pair of nodes (island, body), the body searched within the island's box
   // grown by kReach_mm; then the outside nodes on the segment between them. Nodes, not
   // the lowest point between nodes: the pieces the extraction bounds are joined through
   // nodes, so raising a point between two outside nodes would join nothing.
   constexpr double kReach_mm = 40.0;
   Eigen::AlignedBox3d island_box;
-  for (const std::int64_t id : inside_ids_)
-    if (piece_of_node_[static_cast<size_t>(id)] == island) island_box.extend(grid_.node(id));
+  island_nodes_.clear();
+  for (const std::int64_t id : inside_ids_) {
+    if (piece_of_node_[static_cast<size_t>(id)] != island) continue;
+    island_nodes_.push_back(id);
+    island_box.extend(grid_.node(id));
+  }
   const Eigen::AlignedBox3d search(island_box.min().array() - kReach_mm, island_box.max().array() + kReach_mm);
   double best = std::numeric_limits<double>::infinity();
   Eigen::Vector3d from = island_box.center(), to = island_box.center();
@@ -218,8 +221,7 @@ void TopologyGuard::findGapNodes(int island, int body, std::vector<std::int64_t>
     if (piece_of_node_[static_cast<size_t>(b)] != body) continue;
     const Eigen::Vector3d xb = grid_.node(b);
     if (!search.contains(xb)) continue;
-    for (const std::int64_t a : inside_ids_) {
-      if (piece_of_node_[static_cast<size_t>(a)] != island) continue;
+    for (const std::int64_t a : island_nodes_) {
       const double d2 = (grid_.node(a) - xb).squaredNorm();
       if (d2 < best) {
         best = d2;
@@ -232,9 +234,7 @@ void TopologyGuard::findGapNodes(int island, int body, std::vector<std::int64_t>
   gap.clear();
   for (int i = 0; i <= steps; ++i) {
     const Eigen::Vector3d u = (from + (to - from) * (double(i) / steps) - grid_.origin_mm) / grid_.cell_mm;
-    const std::int64_t id = static_cast<std::int64_t>(std::lround(u.x())) +
-                            grid_.counts[0] * (static_cast<std::int64_t>(std::lround(u.y())) +
-                                               grid_.counts[1] * static_cast<std::int64_t>(std::lround(u.z())));
+    const std::int64_t id = grid_.index(std::lround(u.x()), std::lround(u.y()), std::lround(u.z()));
     if (value_of_node_[static_cast<size_t>(id)] <= 0.0 && (gap.empty() || gap.back() != id)) gap.push_back(id);
   }
 }

@@ -116,7 +116,7 @@ class TopologyGuard {
   bool changeValueAt(const GaussianField& field, const Eigen::Vector3d& x_mm, double change, Eigen::VectorXd& weights,
                      TopologyReport& report);
   /// The nodes with f ≤ 0 on the segment joining the closest nodes of `island` and `body`, in path order.
-  void findGapNodes(int island, int body, std::vector<std::int64_t>& gap) const;
+  void findGapNodes(int island, int body, std::vector<std::int64_t>& gap);
   /// f at `node` with this round's weight changes (`weights` against the field's own).
   double valueWithChanges(const GaussianField& field, const Eigen::VectorXd& weights, std::int64_t node);
   /// f on the nodes of `grid` into value_of_node_: in full when the grid, the centres, the
@@ -141,7 +141,8 @@ class TopologyGuard {
   std::vector<std::int64_t> piece_top_;  ///< highest node of each piece, lowest of each cavity
   std::vector<std::uint8_t> exterior_;   ///< 1: a node of {f ≤ 0} already reached (from the faces or a cavity)
   std::vector<std::int64_t> queue_;
-  std::vector<std::int64_t> gap_nodes_;  ///< outside nodes of the bridge being made
+  std::vector<std::int64_t> island_nodes_;  ///< nodes of the island being bridged
+  std::vector<std::int64_t> gap_nodes_;     ///< outside nodes of the bridge being made
   ActiveCentres active_;
   // The field of the last evaluation (updateValues).
   Eigen::Matrix3Xd evaluated_centres_mm_;

@@ -19,6 +19,8 @@ struct RegularGrid {
   std::array<std::int64_t, 3> counts{{0, 0, 0}};        ///< nodes per axis, ≥ 0
   /// Number of nodes.
   std::int64_t size() const { return counts[0] * counts[1] * counts[2]; }
+  /// Number of node (i, j, k).
+  std::int64_t index(std::int64_t i, std::int64_t j, std::int64_t k) const { return i + counts[0] * (j + counts[1] * k); }
   /// Position of node `id` (mm).
   Eigen::Vector3d node(std::int64_t id) const {
     return origin_mm + cell_mm * Eigen::Vector3d(double(id % counts[0]), double((id / counts[0]) % counts[1]),
