@@ -314,6 +314,7 @@ void RBFMuscle::update(const FrameState& state) {
     result_.fiber_length_normalised = f.normalised_mean;
     result_.fiber_projections = f.projected;
     result_.fiber_points_outside = f.outside;
+    result_.fiber_end_offset_max_mm = f.end_offset_max_mm;
   }
   if (line_of_action_) result_.line_of_action_length_mm = calcPathLength(*line_of_action_, bone_motion_M_);
   result_.update_ms = msSince(start);

@@ -60,7 +60,8 @@
 ///   islands_removed, islands_left (topology guard, core/dynamics/topology_guard.h); attached_centres;
 ///   fiber_length_mm (vector, one per fibre, columns fiber_length_mm_i), fiber_length_mean_mm,
 ///   fiber_length_min_mm, fiber_length_max_mm, fiber_length_normalised (mean / rest mean),
-///   fiber_projections (fibre points pushed back inside this frame; core/fibres/fibre_tracker.h),
+///   fiber_projections (fibre points, ends included, pushed back inside this frame; core/fibres/fibre_tracker.h),
+///   fiber_end_offset_max_mm (largest move of a fibre end off its bone-rigid place, ≤ 0.45 mm),
 ///   fiber_points_outside (fibre points still with f ≤ 0 after the projection; 0 when all are inside),
 ///   line_of_action_length_mm (the path of line_of_action_mm, or the straight line);
 ///   max_penetration_mm (largest probe depth inside a bone beyond its rest overlap after the
@@ -164,6 +165,9 @@ class RBFMuscle final : public Component {
                                  [this] { return result_.fiber_length_normalised; }};
   Output fiber_projections{this, "fiber_projections", "1", "fibre points pushed back inside this frame",
                            [this] { return result_.fiber_projections; }};
+  Output fiber_end_offset_max_mm{this, "fiber_end_offset_max_mm", "mm",
+                                 "largest move of a fibre end off its bone-rigid place by the projection",
+                                 [this] { return result_.fiber_end_offset_max_mm; }};
   Output fiber_points_outside{this, "fiber_points_outside", "1", "fibre points still outside (f ≤ 0) after projection",
                               [this] { return result_.fiber_points_outside; }};
   Output max_penetration_mm{this, "max_penetration_mm", "mm",
@@ -215,6 +219,7 @@ class RBFMuscle final : public Component {
     double fiber_length_normalised = kNaN;
     double fiber_projections = kNaN;
     double fiber_points_outside = kNaN;
+    double fiber_end_offset_max_mm = kNaN;
     double line_of_action_length_mm = kNaN;
     double max_penetration_mm = kNaN;         ///< mm
     double max_penetration_before_mm = kNaN;  ///< mm

@@ -11,7 +11,7 @@
 ///     the N deepest (why: the fibre ends move rigidly with their bones while the surface
 ///     near the attachment deforms; on the gluteus at 30–80° hip flexion ends picked at
 ///     the surface (f ≈ margin) fell up to ≈ 0.6 field units outside — they were 163 of
-///     the 164 points outside — and they may not be projected off their attachment; with
+///     the 164 points outside — and they may move at most end_max_move_mm off their attachment; with
 ///     the 10 mm clamp of the fits, ends at depth 2 fell up to 1.2 outside, the N deepest
 ///     at most 0.27, one fibre end of the gluteus in 21 of 81 frames);
 ///     N start points are chosen by farthest-point sampling (first: the candidate

@@ -1,5 +1,6 @@
 #include "fibres/fibre_projection.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -15,15 +16,26 @@ void checkProjectionSettings(const ProjectionSettings& s) {
     throw std::invalid_argument("ProjectionSettings: max_steps must be ≥ 1, got " + std::to_string(s.max_steps));
   if (s.max_halvings < 0)
     throw std::invalid_argument("ProjectionSettings: max_halvings must be ≥ 0, got " + std::to_string(s.max_halvings));
+  if (!(s.end_max_move_mm >= 0) || !std::isfinite(s.end_max_move_mm))
+    throw std::invalid_argument("ProjectionSettings: end_max_move_mm must be ≥ 0, got " +
+                                std::to_string(s.end_max_move_mm));
 }
 
-ProjectionResult projectInside(const GaussianField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm) {
+ProjectionResult projectInside(const GaussianField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm,
+                               double max_move_mm) {
   checkProjectionSettings(settings);
+  if (!(max_move_mm >= 0))
+    throw std::invalid_argument("projectInside: max_move_mm must be ≥ 0, got " + std::to_string(max_move_mm));
   const double target = 2.0 * settings.margin_mm;
   ProjectionResult result;
   result.value = field.calcValue(p_mm);
   if (result.value >= settings.margin_mm) return result;
   while (result.steps < settings.max_steps) {
+    const double step_cap = std::min(settings.max_step_mm, max_move_mm - result.moved_mm);
+    if (step_cap <= 1e-12) {
+      result.stop = ProjectionStop::kMoveCap;
+      return result;
+    }
     const Eigen::Vector3d g = field.calcGradient(p_mm);
     const double g2 = g.squaredNorm();
     if (g2 < 1e-24) {
@@ -32,13 +44,14 @@ ProjectionResult projectInside(const GaussianField& field, const ProjectionSetti
     }
     Eigen::Vector3d delta = (target - result.value) / g2 * g;
     const double length = delta.norm();
-    if (length > settings.max_step_mm) delta *= settings.max_step_mm / length;
+    if (length > step_cap) delta *= step_cap / length;
     // Backtracking: halve the step until f rises.
     bool rose = false;
     for (int h = 0; h <= settings.max_halvings && !rose; ++h, delta *= 0.5) {
       const double f = field.calcValue(p_mm + delta);
       if (f > result.value) {
         p_mm += delta;
+        result.moved_mm += delta.norm();
         result.value = f;
         rose = true;
       }

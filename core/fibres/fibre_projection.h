@@ -22,6 +22,8 @@
 
 #include <Eigen/Core>
 
+#include <limits>
+
 namespace rbfmuscle {
 
 /// How points are pushed inside {f ≥ margin}.
@@ -36,6 +38,10 @@ struct ProjectionSettings {
   /// Halvings of a step that does not raise f before the point is taken as a local
   /// maximum of f along ∇f, ≥ 0 (the shortest step tried is max_step_mm / 2^max_halvings).
   int max_halvings = 10;
+  /// Fibre ends are rigid with their bone; one that falls outside is still pushed in, but
+  /// moves at most this far (mm, ≥ 0) from its bone-rigid place, within issue 6's 0.5 mm
+  /// tolerance on end points (FibreTracker passes it as projectInside's max_move_mm).
+  double end_max_move_mm = 0.45;
 };
 
 /// Why projectInside stopped.
@@ -44,11 +50,13 @@ enum class ProjectionStop {
   kReached,    ///< f ≥ margin after the steps
   kNoAscent,   ///< ‖∇f‖ < 1e-12, or no halving of the step raised f (local maximum of f)
   kStepCap,    ///< max_steps steps taken, f still < margin
+  kMoveCap,    ///< the path reached max_move_mm, f still < margin
 };
 
 /// What projectInside did.
 struct ProjectionResult {
   int steps = 0;                               ///< accepted steps
+  double moved_mm = 0;                         ///< length of the path taken (mm)
   double value = 0;                            ///< f at the final point (the highest f met)
   ProjectionStop stop = ProjectionStop::kWasInside;  ///< why it stopped
 };
@@ -58,8 +66,10 @@ struct ProjectionResult {
 /// (at most max_halvings times) until f(p + δ) > f(p) and then taken. f never decreases,
 /// so `p_mm` ends at the highest f on its path (f > 0 wherever the path reached the
 /// muscle, also where the muscle is thinner than 2·margin). See the file comment for why.
-/// @throws std::invalid_argument on bad settings.
-ProjectionResult projectInside(const GaussianField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm);
+/// The path is at most `max_move_mm` long (steps are shortened to what is left of it).
+/// @throws std::invalid_argument on bad settings or a negative max_move_mm.
+ProjectionResult projectInside(const GaussianField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm,
+                               double max_move_mm = std::numeric_limits<double>::infinity());
 
 /// Fallback for a fibre point p (f(p) ≤ 0 after projectInside) between the fibre points
 /// a and b, both with f > 0, at the fraction t ∈ (0, 1) of the way from a to b (by point

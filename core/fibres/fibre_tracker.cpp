@@ -1,5 +1,6 @@
 #include "fibres/fibre_tracker.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -44,21 +45,21 @@ const FibreFrame& FibreTracker::update(const GaussianField& field_M,
   frame_.projected = 0;
   frame_.placed = 0;
   frame_.outside = 0;
+  frame_.end_offset_max_mm = 0;
   values_.resize(frame_.points_mm.cols());
-  // 1. Monotone ascent of f for every interior point below the margin.
+  // 1. Monotone ascent of f for every point below the margin; ends move at most end_max_move_mm.
   for (Eigen::Index c = 0; c < frame_.points_mm.cols(); ++c) {
     const int j = static_cast<int>(c % per);
+    const bool end = j == 0 || j == segments;
     Eigen::Vector3d p = frame_.points_mm.col(c);
-    if (j != 0 && j != segments) {
-      const ProjectionResult r = projectInside(field_M, projection_, p);
-      if (r.steps > 0) {
-        frame_.points_mm.col(c) = p;
-        ++frame_.projected;
-      }
-      values_(c) = r.value;
-    } else {
-      values_(c) = field_M.calcValue(p);
+    const ProjectionResult r = end ? projectInside(field_M, projection_, p, projection_.end_max_move_mm)
+                                   : projectInside(field_M, projection_, p);
+    if (r.steps > 0) {
+      if (end) frame_.end_offset_max_mm = std::max(frame_.end_offset_max_mm, (p - frame_.points_mm.col(c)).norm());
+      frame_.points_mm.col(c) = p;
+      ++frame_.projected;
     }
+    values_(c) = r.value;
   }
   // 2. Interior points still outside: placed from the nearest inside points of their fibre.
   for (Eigen::Index first = 0; first < frame_.points_mm.cols(); first += per)

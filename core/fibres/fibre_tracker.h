@@ -10,8 +10,12 @@
 ///  1. prediction: p ← dual-quaternion blend of the bone transforms (predictPoints);
 ///  2. projection: interior points with f < margin in the current field are pushed
 ///     inside by a monotone ascent of f (projectInside, bounded steps: f never drops, so
-///     the point ends at the highest f on its path); end points are never moved off
-///     their bone;
+///     the point ends at the highest f on its path); an end point below the margin gets
+///     the same ascent, but its path is capped at end_max_move_mm (0.45 mm), so it stays
+///     within issue 6's 0.5 mm of its bone-rigid place. Why: the ends are deep nodes of
+///     the rest field (end_depth), yet where free centres next to an attachment move
+///     away, the field there can drop below 0 (one gluteus end, 0.27 field units at
+///     50–80° flexion);
 ///  2b. fallback: an interior point the ascent left at f ≤ 0 (no slope far outside, a
 ///     local maximum of f outside, or the step cap) is placed from its fibre: between the
 ///     nearest points before and after it with f > 0 (placeBetweenInsideNeighbours), so it
@@ -42,7 +46,8 @@ struct FibreFrame {
   double min_mm = kNaN;         ///< shortest fibre (mm)
   double max_mm = kNaN;         ///< longest fibre (mm)
   double normalised_mean = kNaN;  ///< mean length / rest mean length
-  int projected = 0;            ///< interior points pushed back inside this frame
+  int projected = 0;            ///< points (ends included) pushed back inside this frame
+  double end_offset_max_mm = 0; ///< largest move of an end off its bone-rigid place (mm, ≤ end_max_move_mm)
   int placed = 0;               ///< interior points placed from their fibre neighbours (step 2b)
   int outside = 0;              ///< points (ends included) still with f ≤ 0 after steps 2 and 2b
 };

@@ -93,25 +93,29 @@ TEST_F(HipFlexionFibres, RunsAndWritesEveryFibre) {
   EXPECT_TRUE(fs::exists(dir_ / "out/glmax_r_fibres.pvd"));
 }
 
-// Issue 6: every fibre point inside (f > 0) through 80° flexion, fibre ends included
-// (they move rigidly with their bones; the generator picks them at depth f ≥ end_depth).
-void expectEveryFibrePointInside(const std::string& muscle, const StorageTable& table) {
-  const int c = table.findColumn(muscle + ".fiber_points_outside");
-  ASSERT_GE(c, 0);
-  for (size_t row = 0; row < table.rows.size(); ++row)
-    EXPECT_EQ(table.rows[row][static_cast<size_t>(c)], 0) << muscle << " frame " << row;
+// Issue 6: every fibre point inside (f > 0) through 80° flexion, fibre ends included, and
+// the ends within 0.5 mm of their bone's motion (they move rigidly with it, the generator
+// picks them at depth f ≥ end_depth, and the tracker pushes one that falls outside in by
+// at most end_max_move_mm = 0.45 mm).
+void expectEveryFibrePointInsideAndEndsOnTheirBones(const std::string& muscle, const StorageTable& table) {
+  const int outside = table.findColumn(muscle + ".fiber_points_outside");
+  const int end_offset = table.findColumn(muscle + ".fiber_end_offset_max_mm");
+  ASSERT_GE(outside, 0);
+  ASSERT_GE(end_offset, 0);
+  for (size_t row = 0; row < table.rows.size(); ++row) {
+    EXPECT_EQ(table.rows[row][static_cast<size_t>(outside)], 0) << muscle << " frame " << row;
+    EXPECT_LE(table.rows[row][static_cast<size_t>(end_offset)], 0.5) << muscle << " frame " << row;
+  }
 }
 
-TEST_F(HipFlexionFibres, EveryIliacusFibrePointStaysInside) {
+TEST_F(HipFlexionFibres, EveryIliacusFibrePointStaysInsideAndItsEndsOnTheirBones) {
   ASSERT_EQ(result_.exit_code, 0) << result_.err;
-  expectEveryFibrePointInside("iliacus_r", table_);
+  expectEveryFibrePointInsideAndEndsOnTheirBones("iliacus_r", table_);
 }
 
-// Since the fits are clamped at 10 mm (fewer surface jumps, issue 4), one gluteus fibre
-// end, rigid with the pelvis, falls up to 0.27 field units (≈ 0.27 mm) outside from 50°.
-TEST_F(HipFlexionFibres, DISABLED_EveryGluteusFibrePointStaysInside_OneEndUpTo0_27Outside_Issue6Open) {
+TEST_F(HipFlexionFibres, EveryGluteusFibrePointStaysInsideAndItsEndsOnTheirBones) {
   ASSERT_EQ(result_.exit_code, 0) << result_.err;
-  expectEveryFibrePointInside("glmax_r", table_);
+  expectEveryFibrePointInsideAndEndsOnTheirBones("glmax_r", table_);
 }
 
 TEST_F(HipFlexionFibres, GluteusLengthensAndIliacusShortens) {

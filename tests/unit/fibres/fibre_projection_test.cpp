@@ -97,6 +97,25 @@ TEST(ProjectInside, TooFewStepsStopAtTheCapWithFHigherThanAtTheStart) {
   EXPECT_NEAR(p.y(), 2.2, 1e-9);
 }
 
+TEST(ProjectInside, TheMoveCapBoundsThePathAndSaysSo) {
+  const GaussianField rod = makeRod(3.0);  // inside radius 1.67 mm
+  Eigen::Vector3d p(0, 2.5, 0);
+  const double f0 = rod.calcValue(p);
+  const ProjectionResult r = projectInside(rod, ProjectionSettings{}, p, 0.3);
+  EXPECT_EQ(r.stop, ProjectionStop::kMoveCap);
+  EXPECT_NEAR(r.moved_mm, 0.3, 1e-12);
+  EXPECT_NEAR(p.y(), 2.2, 1e-9);  // straight down ∇f, exactly the cap
+  EXPECT_GT(r.value, f0);
+  // With room enough the same start reaches the margin within the cap.
+  Eigen::Vector3d q(0, 1.8, 0);
+  const ProjectionResult reached = projectInside(rod, ProjectionSettings{}, q, 1.0);
+  EXPECT_EQ(reached.stop, ProjectionStop::kReached);
+  EXPECT_LE(reached.moved_mm, 1.0);
+  EXPECT_NEAR(reached.moved_mm, 1.8 - q.y(), 1e-9);
+  Eigen::Vector3d bad(0, 2.5, 0);
+  EXPECT_THROW(projectInside(rod, ProjectionSettings{}, bad, -0.1), std::invalid_argument);
+}
+
 /// A thick arc (radius 40 mm, α = 0.5 mm⁻², Gaussians every 0.5°) from −60° to 60° in the
 /// z = 0 plane, f ≈ 3 on it: the chord between its points at ±45° runs ≥ 7 mm from the arc,
 /// through empty space (f = offset, ∇f = 0) where the ascent cannot start.

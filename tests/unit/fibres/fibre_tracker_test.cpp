@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 
@@ -57,6 +58,34 @@ TEST(FibreTracker, RigidMotionOfTheSceneKeepsTheLengths) {
   for (int i = 0; i < s.rest.count; ++i)
     EXPECT_NEAR(frame.lengths_mm(i) / s.rest.lengths_mm(i), 1.0, 1e-6) << "fibre " << i;
   EXPECT_LT((frame.points_mm - x * s.rest.points_mm).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+/// Ends are rigid with their bone but pushed in when the field drops under them: lowering
+/// the offset until some ends sit below the margin moves them by at most end_max_move_mm,
+/// each along its ascent, and brings one that fell just outside (f = −0.1) back inside.
+TEST(FibreTracker, EndsBelowTheMarginMoveInByAtMostTheEndCap) {
+  RodSetup s;
+  const int per = s.rest.segments + 1;
+  Eigen::VectorXd rest_values;
+  s.field.calcValues(s.rest.points_mm, rest_values);
+  double lowest_end = INFINITY;
+  for (int i = 0; i < s.rest.count; ++i)
+    lowest_end = std::min({lowest_end, rest_values(i * per), rest_values(i * per + s.rest.segments)});
+  GaussianField lowered = s.field;
+  lowered.setOffset(s.field.getOffset() - (lowest_end + 0.1));  // the shallowest end now outside, f = −0.1
+  const FibreFrame& frame = s.tracker.update(lowered, bend(0.0));
+  EXPECT_GT(frame.projected, 0);
+  EXPECT_GT(frame.end_offset_max_mm, 0.0);
+  EXPECT_LE(frame.end_offset_max_mm, ProjectionSettings{}.end_max_move_mm + 1e-12);
+  Eigen::VectorXd values;
+  lowered.calcValues(frame.points_mm, values);
+  for (int i = 0; i < s.rest.count; ++i)
+    for (int j : {0, s.rest.segments}) {
+      const Eigen::Index c = static_cast<Eigen::Index>(i) * per + j;
+      EXPECT_LE((frame.points_mm.col(c) - s.rest.points_mm.col(c)).norm(), frame.end_offset_max_mm + 1e-12);
+      EXPECT_GE(values(c), rest_values(c) - (lowest_end + 0.1) - 1e-12) << "f never drops, fibre " << i;
+    }
+  EXPECT_EQ(frame.outside, 0);
 }
 
 /// The rod bent by the MuscleDeformer in 1° frames to 60° about the middle.
