@@ -262,12 +262,12 @@ void RBFMuscle::update(const FrameState& state) {
   result_.max_penetration_free_mm = DeformResult::kNaN;
   result_.contact_iterations = 0;
   int steps = 1;
-  if (contact_resolver_) {
+  if (contact_resolver_ && contact_response.get()) {  // sub-steps guard tunnelling of the response only
     const auto t = std::chrono::steady_clock::now();
     std::vector<DualQuaternion> dq;
     for (const Eigen::Isometry3d& m : bone_motion_M_) dq.push_back(toDualQuaternion(m));
     predictPoints(rest_probes_M_, probe_weights_, dq, carried_probes_M_);
-    if (contact_response.get()) steps = contact_resolver_->calcSubsteps(X_MB_, carried_probes_M_);
+    steps = contact_resolver_->calcSubsteps(X_MB_, carried_probes_M_);
     result_.collision_ms += msSince(t);
   }
   result_.substeps = steps;
@@ -328,11 +328,17 @@ void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::
   for (const Eigen::Isometry3d& m : motion_M) dq.push_back(toDualQuaternion(m));
   predictPoints(rest_probes_M_, probe_weights_, dq, carried_probes_M_);
   const GaussianField& field = deformer_->getField();
-  contact_field_->setCentrePositions(field.getCentres());
-  contact_field_->setWeights(field.getWeights());
-  contact_field_->setOffset(field.getOffset());
-  const ContactReport& report = contact_resolver_->resolve(X_MB, carried_probes_M_, *contact_field_, contact_response.get());
-  if (report.moved_centres > 0) deformer_->setCurrentCentres(contact_field_->getCentres());
+  const ContactReport* measured = nullptr;
+  if (contact_response.get()) {  // the response moves centres of a copy, handed back to the deformer
+    contact_field_->setCentrePositions(field.getCentres());
+    contact_field_->setWeights(field.getWeights());
+    contact_field_->setOffset(field.getOffset());
+    measured = &contact_resolver_->resolve(X_MB, carried_probes_M_, *contact_field_, true);
+    if (measured->moved_centres > 0) deformer_->setCurrentCentres(contact_field_->getCentres());
+  } else {  // measuring reads the deformer's field itself
+    measured = &contact_resolver_->measureOnly(X_MB, carried_probes_M_, field);
+  }
+  const ContactReport& report = *measured;
   const auto maxOrNaN = [](double a, double b) { return std::isnan(a) ? b : std::max(a, b); };
   result_.max_penetration_mm = maxOrNaN(result_.max_penetration_mm, report.max_penetration_mm);
   result_.max_penetration_before_mm = maxOrNaN(result_.max_penetration_before_mm, report.max_penetration_before_mm);

@@ -9,13 +9,17 @@
 #include <Eigen/Cholesky>
 
 #include "collision/collision_error.h"
+#include "collision/contact_dump.h"
+#include <cstdlib>
+#include <fstream>
 #include "collision/surface_probes.h"
 
 namespace rbfmuscle {
 namespace {
 
 constexpr double kRestQueryRadiusMm = 1e6;
-constexpr double kLowerBoundReachMm = 10.0;  ///< extra query radius so far probes get a useful lower bound
+constexpr double kLowerBoundReachMm = 10.0;
+constexpr double kGroupCellMm = 10.0;  ///< cell of the probe groups sharing a list of centres (projection)  ///< extra query radius so far probes get a useful lower bound
 /// A moved centre k marks the probes within √(ln(1e3)/α_k) of it (where φ_k ≥ 1e-3) for re-projection.
 const double kInfluenceLogRatio = std::log(1e3);
 
@@ -62,6 +66,30 @@ ContactResolver::ContactResolver(std::vector<ContactBone> bones, const GaussianF
     throw CollisionError("ContactResolver: free-centre mask of size " + std::to_string(free_centres_.size()) +
                          ", the field has " + std::to_string(rest_field.getNumCentres()) + " centres");
   const int P = static_cast<int>(rest_probes_M.cols()), B = countBones();
+  if (const char* dir = std::getenv("RBFMUSCLE_CONTACT_DUMP")) {
+    static int counter = 0;
+    dump_ = std::make_shared<std::ofstream>(std::string(dir) + "/resolver_" + std::to_string(counter++) + ".bin", std::ios::binary);
+    using namespace contact_dump;
+    writeValue(*dump_, settings_);
+    writeValue(*dump_, B);
+    for (const ContactBone& bone : bones_) {
+      writeValue(*dump_, static_cast<int>(bone.name.size()));
+      dump_->write(bone.name.data(), static_cast<std::streamsize>(bone.name.size()));
+      writeMatrix(*dump_, bone.mesh_B.vertices_mm);
+      writeMatrix(*dump_, bone.mesh_B.triangles);
+      writeMatrix(*dump_, Eigen::Matrix4d(bone.X_MB_rest.matrix()));
+      writeValue(*dump_, bone.thickness_mm);
+    }
+    writeValue(*dump_, rest_field.getOffset());
+    writeValue(*dump_, rest_field.getCutoff());
+    writeMatrix(*dump_, rest_field.getCentres());
+    writeMatrix(*dump_, rest_field.getWeights());
+    writeMatrix(*dump_, rest_field.getShapes());
+    writeMatrix(*dump_, rest_probes_M);
+    Eigen::VectorXi mask(static_cast<Eigen::Index>(free_centres_.size()));
+    for (size_t k = 0; k < free_centres_.size(); ++k) mask(static_cast<Eigen::Index>(k)) = free_centres_[k] ? 1 : 0;
+    writeMatrix(*dump_, mask);
+  }
   for (ContactBone& bone : bones_) {
     BoneSet set;
     set.addBone(bone.name, bone.mesh_B);
@@ -104,6 +132,8 @@ ContactResolver::ContactResolver(std::vector<ContactBone> bones, const GaussianF
   allowance_mm_ = rest_distance_mm_.unaryExpr(
       [](double s) { return s < 0.0 ? std::numeric_limits<double>::infinity() : 0.0; });
   ref_distance_mm_ = rest_distance_mm_;
+  ref_upper_mm_ = rest_distance_mm_.unaryExpr(
+      [](double s) { return s >= kRestQueryRadiusMm ? std::numeric_limits<double>::infinity() : s; });
   excess_mm_ = Eigen::VectorXd::Constant(P, -std::numeric_limits<double>::infinity());
   moved_.assign(free_centres_.size(), false);
   slack_mm_ = Eigen::VectorXd::Zero(P);
@@ -135,12 +165,35 @@ int ContactResolver::calcSubsteps(const std::vector<Eigen::Isometry3d>& X_MB, co
 
 const ContactReport& ContactResolver::resolve(const std::vector<Eigen::Isometry3d>& X_MB,
                                               const Eigen::Matrix3Xd& carried_M, GaussianField& field, bool respond) {
+  return run(X_MB, carried_M, field, respond ? &field : nullptr);
+}
+
+const ContactReport& ContactResolver::measureOnly(const std::vector<Eigen::Isometry3d>& X_MB,
+                                                  const Eigen::Matrix3Xd& carried_M, const GaussianField& field) {
+  return run(X_MB, carried_M, field, nullptr);
+}
+
+const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& X_MB, const Eigen::Matrix3Xd& carried_M,
+                                          const GaussianField& measured, GaussianField* moved) {
+  const GaussianField& field = measured;
+  const bool respond = moved != nullptr;
   if (static_cast<int>(X_MB.size()) != countBones() || carried_M.cols() != probes_M_.cols() ||
       field.getNumCentres() != static_cast<int>(free_centres_.size()))
     throw CollisionError("ContactResolver::resolve: " + std::to_string(X_MB.size()) + " poses, " +
                          std::to_string(carried_M.cols()) + " probes, " + std::to_string(field.getNumCentres()) +
                          " centres; expected " + std::to_string(countBones()) + ", " + std::to_string(countProbes()) +
                          ", " + std::to_string(free_centres_.size()));
+  if (dump_) {
+    using namespace contact_dump;
+    writeValue(*dump_, 1);
+    writeValue(*dump_, respond ? 1 : 0);
+    for (const Eigen::Isometry3d& X : X_MB) writeMatrix(*dump_, Eigen::Matrix4d(X.matrix()));
+    writeMatrix(*dump_, carried_M);
+    writeMatrix(*dump_, field.getCentres());
+    writeMatrix(*dump_, field.getWeights());
+    writeValue(*dump_, field.getOffset());
+    dump_->flush();
+  }
   const auto start = std::chrono::steady_clock::now();
   for (int b = 0; b < countBones(); ++b) bone_sets_[static_cast<size_t>(b)].setBoneTransforms({X_MB[static_cast<size_t>(b)]});
   X_MB_prev_ = X_MB;
@@ -150,7 +203,7 @@ const ContactReport& ContactResolver::resolve(const std::vector<Eigen::Isometry3
   std::fill(moved_.begin(), moved_.end(), false);
   report_ = ContactReport{};
 
-  double penetration = measure(field);
+  double penetration = measure(field, !respond);
   report_.contacts = static_cast<int>((excess_mm_.array() > 0.0).count());
   report_.max_penetration_before_mm = penetration;
   if (!respond) {
@@ -170,7 +223,7 @@ const ContactReport& ContactResolver::resolve(const std::vector<Eigen::Isometry3
         report_.stop = ContactStop::kIterationCap;
         break;
       }
-      if (!respondOnce(field, step_limit)) {
+      if (!respondOnce(*moved, step_limit)) {
         report_.stop = ContactStop::kNoFreeCentre;
         break;
       }
@@ -189,14 +242,14 @@ const ContactReport& ContactResolver::resolve(const std::vector<Eigen::Isometry3
       // Back to the best centres; every probe may be as far from the surface as the largest
       // centre move back (slack), so measure again.
       const double back = (field.getCentres() - best_centres_).colwise().norm().maxCoeff();
-      field.setCentrePositions(best_centres_);
+      moved->setCentrePositions(best_centres_);
       probes_M_ = best_probes_;
       slack_mm_.array() += back;
       penetration = measure(field);
     }
   }
   report_.max_penetration_mm = penetration;
-  report_.max_penetration_free_mm = calcFreeSurfacePenetration(field);
+  report_.max_penetration_free_mm = respond ? calcFreeSurfacePenetration(field) : free_penetration_mm_;
   report_.moved_centres = static_cast<int>(std::count(moved_.begin(), moved_.end(), true));
   report_.ms = msSince(start);
   return report_;
@@ -226,52 +279,108 @@ Eigen::Vector3d ContactResolver::calcStartPoint(int i, const Eigen::Matrix3Xd& c
   return probes_M_.col(i) + (carried_M.col(i) - carried_prev_M_.col(i));
 }
 
-double ContactResolver::measure(const GaussianField& field) {
+double ContactResolver::measure(const GaussianField& field, bool measure_only) {
   const int P = countProbes(), B = countBones();
   const double travel = settings_.newton_steps * settings_.newton_step_cap_mm;
   const double radius = settings_.query_band_mm + travel + kLowerBoundReachMm;
-  excess_mm_.setConstant(-std::numeric_limits<double>::infinity());
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  excess_mm_.setConstant(-kInf);
   std::vector<Eigen::Isometry3d> X_BM(static_cast<size_t>(B));
   for (int b = 0; b < B; ++b) X_BM[static_cast<size_t>(b)] = X_MB_prev_[static_cast<size_t>(b)].inverse();
-  // Certified lower bound of s_ib at the probe's position, from its last exact query.
-  const auto bound = [&](int i, int b) {
-    return ref_distance_mm_(i, b) -
-           (X_BM[static_cast<size_t>(b)] * probes_M_.col(i) - ref_point_B_[static_cast<size_t>(b)].col(i)).norm();
+  // Move of probe i in bone b's frame since its last exact query; s is 1-Lipschitz, so
+  // s_ref − move ≤ s_ib ≤ s_ref + move (the upper bound only after a query that found the bone).
+  const auto move = [&](int i, int b) {
+    return (X_BM[static_cast<size_t>(b)] * probes_M_.col(i) - ref_point_B_[static_cast<size_t>(b)].col(i)).norm();
   };
-  const auto threshold = [&](int i, int b) { return -allowance_mm_(i, b) + settings_.query_band_mm; };
+  const auto bound = [&](int i, int b) { return ref_distance_mm_(i, b) - move(i, b); };
+  // Measuring only needs no band: a pair whose lower bound is ≥ −a_ib has e_ib ≤ 0 and cannot
+  // count. The response keeps the band for its inequality rows (near contact).
+  const double band = measure_only ? 0.0 : settings_.query_band_mm;
+  const auto threshold = [&](int i, int b) { return -allowance_mm_(i, b) + band; };
+  // A probe is projected when some bone may be within the band of its surface point (which
+  // lies within the projection's travel of it). Measuring only, a probe whose every such bone
+  // holds it certainly inside (upper bound + travel below −a) is left unprojected: it counts
+  // as a contact either way; unsure_mm_ keeps its travel in its bounds until it is projected.
+  unsure_mm_.setZero(P);
   project_index_.clear();
   for (int i = 0; i < P; ++i) {
-    bool project = false;
-    for (int b = 0; b < B && !project; ++b) project = bound(i, b) - travel - slack_mm_(i) < threshold(i, b);
-    if (project) project_index_.push_back(i);
+    const double reach = travel + slack_mm_(i);
+    bool project = false, inside = false;
+    for (int b = 0; b < B && !project; ++b) {
+      if (!(bound(i, b) - reach < threshold(i, b))) continue;
+      if (measure_only && ref_upper_mm_(i, b) + move(i, b) + reach < -allowance_mm_(i, b))
+        inside = true;
+      else
+        project = true;
+    }
+    if (project)
+      project_index_.push_back(i);
+    else if (inside)
+      unsure_mm_(i) = reach;
   }
-  const int count = static_cast<int>(project_index_.size());
-#pragma omp parallel for schedule(dynamic, 16)
-  for (int k = 0; k < count; ++k) {  // independent per probe: results do not depend on the threads
-    const int i = project_index_[static_cast<size_t>(k)];
+  const auto projectProbe = [&](int i) {
     Eigen::Vector3d p = probes_M_.col(i);
     const int steps = settings_.newton_steps + static_cast<int>(std::ceil(slack_mm_(i) / settings_.newton_step_cap_mm));
     projectOntoSurface(field, p, steps, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm);
     probes_M_.col(i) = p;
     slack_mm_(i) = 0.0;
+    unsure_mm_(i) = 0.0;
+  };
+  // The probes to project, grouped by cells of kGroupCellMm: each group collects once the
+  // centres that can be active within its probes' travel (LocalFieldEvaluator), which gives
+  // the field's own numbers without a grid search per Newton step.
+  const int count = static_cast<int>(project_index_.size());
+  const double log_inv_cutoff = -std::log(field.getCutoff());
+  cutoff_radius_mm_ = (log_inv_cutoff / field.getShapes().array()).sqrt();
+  groups_.clear();
+  for (int i : project_index_) {
+    const Eigen::Vector3d cell = (probes_M_.col(i) / kGroupCellMm).array().floor();
+    groups_.push_back({{static_cast<long long>(cell.x()), static_cast<long long>(cell.y()), static_cast<long long>(cell.z())}, i});
+  }
+  std::sort(groups_.begin(), groups_.end());
+  std::vector<size_t> group_start;
+  for (size_t k = 0; k < groups_.size(); ++k)
+    if (k == 0 || groups_[k].first != groups_[k - 1].first) group_start.push_back(k);
+  group_start.push_back(groups_.size());
+  const int group_count = static_cast<int>(group_start.size()) - 1;
+#pragma omp parallel for schedule(dynamic, 4)
+  for (int g = 0; g < group_count; ++g) {  // independent per probe: results do not depend on the threads
+    const size_t first = group_start[static_cast<size_t>(g)], last = group_start[static_cast<size_t>(g) + 1];
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (size_t k = first; k < last; ++k) c += probes_M_.col(groups_[k].second);
+    c /= static_cast<double>(last - first);
+    double radius = 0.0;
+    for (size_t k = first; k < last; ++k) {
+      const int i = groups_[k].second;
+      const int steps = settings_.newton_steps + static_cast<int>(std::ceil(slack_mm_(i) / settings_.newton_step_cap_mm));
+      // A projection moves its probe at most steps × cap.
+      radius = std::max(radius, (probes_M_.col(i) - c).norm() + steps * settings_.newton_step_cap_mm);
+    }
+    LocalFieldEvaluator evaluate;
+    evaluate.collect(field, cutoff_radius_mm_, c, radius);
+    for (size_t k = first; k < last; ++k) {
+      const int i = groups_[k].second;
+      Eigen::Vector3d p = probes_M_.col(i);
+      const int steps = settings_.newton_steps + static_cast<int>(std::ceil(slack_mm_(i) / settings_.newton_step_cap_mm));
+      projectOntoSurfaceWith(evaluate, p, steps, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm);
+      probes_M_.col(i) = p;
+      slack_mm_(i) = 0.0;
+    }
   }
   report_.projections += count;
   double worst = 0.0;
-  for (int b = 0; b < B; ++b) {
-    query_index_.clear();
-    for (int i = 0; i < P; ++i)
-      if (bound(i, b) < threshold(i, b)) query_index_.push_back(i);
-    if (query_index_.empty()) continue;
-    query_points_.resize(3, static_cast<Eigen::Index>(query_index_.size()));
-    for (size_t k = 0; k < query_index_.size(); ++k)
-      query_points_.col(static_cast<Eigen::Index>(k)) = probes_M_.col(query_index_[k]);
+  // Exact query of the listed probes against bone b; updates the references and excess_.
+  const auto queryBone = [&](int b, const std::vector<int>& probes) {
+    query_points_.resize(3, static_cast<Eigen::Index>(probes.size()));
+    for (size_t k = 0; k < probes.size(); ++k) query_points_.col(static_cast<Eigen::Index>(k)) = probes_M_.col(probes[k]);
     bone_sets_[static_cast<size_t>(b)].queryProbes(query_points_, radius, query_out_);
-    report_.probe_queries += static_cast<long long>(query_index_.size());
-    for (size_t k = 0; k < query_index_.size(); ++k) {
-      const int i = query_index_[k];
+    report_.probe_queries += static_cast<long long>(probes.size());
+    for (size_t k = 0; k < probes.size(); ++k) {
+      const int i = probes[k];
       const ContactQueryResult& q = query_out_[k];
       const double s = q.bone < 0 ? radius : q.signed_distance_mm;
       ref_distance_mm_(i, b) = s;
+      ref_upper_mm_(i, b) = q.bone < 0 ? kInf : s;
       ref_point_B_[static_cast<size_t>(b)].col(i) = X_BM[static_cast<size_t>(b)] * probes_M_.col(i);
       const double e = -s - allowance_mm_(i, b);
       if (e > excess_mm_(i)) {
@@ -279,6 +388,79 @@ double ContactResolver::measure(const GaussianField& field) {
         exit_normal_M_.col(i) = q.bone < 0 ? Eigen::Vector3d::Zero() : q.normal_W;
       }
       worst = std::max(worst, e);
+    }
+  };
+  deferred_.clear();
+  for (int b = 0; b < B; ++b) {
+    query_index_.clear();
+    for (int i = 0; i < P; ++i) {
+      if (!(bound(i, b) - unsure_mm_(i) < threshold(i, b))) continue;
+      // Measuring only: a pair certainly inside (upper bound below −a) counts as a contact
+      // without a query; its exact depth is needed only if it may be the deepest (below).
+      if (measure_only && ref_upper_mm_(i, b) + move(i, b) + unsure_mm_(i) < -allowance_mm_(i, b))
+        deferred_.push_back({i, b});
+      else
+        query_index_.push_back(i);
+    }
+    if (!query_index_.empty()) queryBone(b, query_index_);
+  }
+  if (!measure_only) return worst;
+  // Deferred pairs: e_ib ∈ [lo, hi] = [−(s_ref + move) − a, −(s_ref − move) − a], lo > 0.
+  // excess_ takes lo (the contact count is exact); the deepest probe, over all probes and over
+  // those on free surface, is then found exactly by querying in order of the upper bounds
+  // until the best exact depth is at least every remaining upper bound (branch and bound).
+  upper_mm_.setConstant(P, -kInf);
+  for (int i = 0; i < P; ++i) upper_mm_(i) = excess_mm_(i);
+  for (const auto& [i, b] : deferred_) {
+    excess_mm_(i) = std::max(excess_mm_(i), -(ref_upper_mm_(i, b) + move(i, b) + unsure_mm_(i)) - allowance_mm_(i, b));
+    upper_mm_(i) = std::max(upper_mm_(i), -(bound(i, b) - unsure_mm_(i)) - allowance_mm_(i, b));
+  }
+  std::vector<std::vector<int>> pending(static_cast<size_t>(P));  // deferred bones per probe
+  for (const auto& [i, b] : deferred_) pending[static_cast<size_t>(i)].push_back(b);
+  std::vector<int> order;
+  for (int i = 0; i < P; ++i)
+    if (upper_mm_(i) > 0.0) order.push_back(i);
+  const auto lower = [&](int a, int c) { return upper_mm_(a) < upper_mm_(c); };
+  std::make_heap(order.begin(), order.end(), lower);
+  free_penetration_mm_ = 0.0;
+  bool have_worst = false;
+  std::vector<int> one(1);
+  ActiveCentres active;
+  while (!order.empty()) {
+    std::pop_heap(order.begin(), order.end(), lower);
+    const int i = order.back();
+    order.pop_back();
+    if (!pending[static_cast<size_t>(i)].empty()) {  // not exact yet: query, then back in the heap
+      one[0] = i;
+      if (unsure_mm_(i) > 0.0) {
+        projectProbe(i);
+        ++report_.projections;
+      }
+      for (int b : pending[static_cast<size_t>(i)]) queryBone(b, one);
+      pending[static_cast<size_t>(i)].clear();
+      upper_mm_(i) = excess_mm_(i);
+      if (upper_mm_(i) > 0.0) {
+        order.push_back(i);
+        std::push_heap(order.begin(), order.end(), lower);
+      }
+      continue;
+    }
+    // Exact and at least every remaining upper bound: the deepest probe left.
+    if (!have_worst) {
+      worst = std::max(worst, excess_mm_(i));
+      have_worst = true;
+    }
+    field.findActiveCentres(probes_M_.col(i), active);
+    double free = 0.0, all = 0.0;
+    for (int q = 0; q < active.size(); ++q) {
+      const int k = active.indices[static_cast<size_t>(q)];
+      const double w = std::abs(field.getWeights()(k) * active.phi[static_cast<size_t>(q)]);
+      all += w;
+      if (free_centres_[static_cast<size_t>(k)]) free += w;
+    }
+    if (all > 0.0 && free >= 0.5 * all) {
+      free_penetration_mm_ = excess_mm_(i);
+      break;
     }
   }
   return worst;

@@ -1,5 +1,7 @@
 #include "collision/surface_probes.h"
 
+#include "rbf/gaussian_terms.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -82,20 +84,39 @@ double calcValueAndGradient(const GaussianField& field, const Eigen::Vector3d& x
 
 bool projectOntoSurface(const GaussianField& field, Eigen::Vector3d& x_mm, int max_steps, double step_cap_mm,
                         double tolerance_mm) {
-  for (int step = 0; step <= max_steps; ++step) {
-    Eigen::Vector3d g;
-    const double f = calcValueAndGradient(field, x_mm, g);
-    const double g2 = g.squaredNorm();
-    if (!(g2 > 1e-24)) return false;
-    const double distance = std::abs(f) / std::sqrt(g2);
-    if (distance <= tolerance_mm) return true;
-    if (step == max_steps) return false;
-    Eigen::Vector3d move = -(f / g2) * g;
-    const double length = move.norm();
-    if (length > step_cap_mm) move *= step_cap_mm / length;
-    x_mm += move;
+  return projectOntoSurfaceWith(
+      [&](const Eigen::Vector3d& x, Eigen::Vector3d& g) { return calcValueAndGradient(field, x, g); }, x_mm, max_steps,
+      step_cap_mm, tolerance_mm);
+}
+
+void LocalFieldEvaluator::collect(const GaussianField& field, const Eigen::VectorXd& cutoff_radius_mm,
+                                  const Eigen::Vector3d& c_mm, double radius_mm) {
+  field_ = &field;
+  log_inv_cutoff_ = -std::log(field.getCutoff());  // as GaussianField::setCutoff
+  candidates_.clear();
+  const Eigen::Matrix3Xd& xi = field.getCentres();
+  // 1e-9 relative slack: a superset is harmless (the exact test runs per evaluation).
+  for (int k = 0; k < field.getNumCentres(); ++k) {
+    const double reach = (cutoff_radius_mm(k) + radius_mm) * (1.0 + 1e-9) + 1e-9;
+    if ((xi.col(k) - c_mm).squaredNorm() <= reach * reach) candidates_.push_back(k);
   }
-  return false;
+}
+
+double LocalFieldEvaluator::operator()(const Eigen::Vector3d& x_mm, Eigen::Vector3d& gradient) const {
+  const Eigen::Matrix3Xd& xi = field_->getCentres();
+  const Eigen::VectorXd& lambda = field_->getWeights();
+  const Eigen::VectorXd& alpha = field_->getShapes();
+  double f = field_->getOffset();
+  gradient.setZero();
+  for (int k : candidates_) {
+    const Eigen::Vector3d d = x_mm - xi.col(k);
+    const double r2 = d.squaredNorm();
+    if (!(alpha(k) * r2 <= log_inv_cutoff_)) continue;
+    const double w = lambda(k) * gaussian::calcPhi(alpha(k), r2);
+    f += w;
+    gradient -= (2.0 * alpha(k) * w) * d;
+  }
+  return f;
 }
 
 double calcLocalThickness(const GaussianField& field, const Eigen::Vector3d& p_mm, double step_mm, double max_mm) {

@@ -3,6 +3,9 @@
 /// Probe points on a muscle's implicit surface f = 0: picked from a rest surface mesh,
 /// pulled back onto the current surface by Newton steps, and the local muscle thickness
 /// at each (issue 5, contact_resolver.h).
+#include <cmath>
+#include <vector>
+
 #include <Eigen/Core>
 
 #include "geometry/triangle_mesh.h"
@@ -28,6 +31,48 @@ double calcValueAndGradient(const GaussianField& field, const Eigen::Vector3d& x
 /// @return true when the tolerance was reached (false: step cap or a vanishing gradient).
 bool projectOntoSurface(const GaussianField& field, Eigen::Vector3d& x_mm, int max_steps, double step_cap_mm,
                         double tolerance_mm);
+
+/// projectOntoSurface with f(x) and ∇f(x) from `evaluate(x, gradient) → f` (same steps, same
+/// stops; the same result when `evaluate` gives calcValueAndGradient's numbers).
+template <class Evaluate>
+bool projectOntoSurfaceWith(Evaluate&& evaluate, Eigen::Vector3d& x_mm, int max_steps, double step_cap_mm,
+                            double tolerance_mm) {
+  for (int step = 0; step <= max_steps; ++step) {
+    Eigen::Vector3d g;
+    const double f = evaluate(x_mm, g);
+    const double g2 = g.squaredNorm();
+    if (!(g2 > 1e-24)) return false;
+    const double distance = std::abs(f) / std::sqrt(g2);
+    if (distance <= tolerance_mm) return true;
+    if (step == max_steps) return false;
+    Eigen::Vector3d move = -(f / g2) * g;
+    const double length = move.norm();
+    if (length > step_cap_mm) move *= step_cap_mm / length;
+    x_mm += move;
+  }
+  return false;
+}
+
+/// f and ∇f of `field` at points near a group of probes, from the centres that can be active
+/// there (collected once per group) instead of a grid search per evaluation. Bitwise the
+/// numbers of calcValueAndGradient: the same cut-off test α r² ≤ ln(1/ε) on the same doubles,
+/// the centres summed in ascending index order.
+class LocalFieldEvaluator {
+ public:
+  /// Collects the centres k with ‖c − ξ_k‖ ≤ r_k + radius_mm (r_k the cut-off radius), i.e.
+  /// every centre that can be active within radius_mm of c.
+  void collect(const GaussianField& field, const Eigen::VectorXd& cutoff_radius_mm, const Eigen::Vector3d& c_mm,
+               double radius_mm);
+  /// f(x) and ∇f(x) for ‖x − c‖ ≤ radius_mm of the last collect (exact there).
+  double operator()(const Eigen::Vector3d& x_mm, Eigen::Vector3d& gradient) const;
+  /// Number of collected centres.
+  int size() const { return static_cast<int>(candidates_.size()); }
+
+ private:
+  const GaussianField* field_ = nullptr;
+  double log_inv_cutoff_ = 0.0;
+  std::vector<int> candidates_;  ///< ascending
+};
 
 /// Local muscle thickness (mm) at a surface point p (f(p) ≈ 0): the distance from p along
 /// the inward normal u = ∇f/‖∇f‖ to the first point where f becomes ≤ 0 again, found by

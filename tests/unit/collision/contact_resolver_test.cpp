@@ -185,6 +185,42 @@ TEST(ContactResolver, MeasureOnlyLeavesTheFieldAndAttachedOnlyCannotRespond) {
   EXPECT_TRUE(field.getCentres().col(0) == Eigen::Vector3d::Zero());
 }
 
+TEST(ContactResolver, MeasureOnlyCountsAndDepthsExactWhileCertainContactsAreNotQueried) {
+  // The box's lower face descends into the still sphere: the probes stay where they are, so the
+  // exact answer is the probes' heights above the face. Probes certainly inside from earlier
+  // measurements are counted without a query (deferred) and the deepest is still exact.
+  const GaussianField field = makeTwoSpheres();
+  const Eigen::Matrix3Xd probes = makeProbes(300);
+  ContactResolver resolver = makeResolver(makeBox(50, 50), 62.0, field);
+  const Eigen::Matrix3Xd& projected = resolver.getProbes();
+  long long still_queries = -1;
+  int still_contacts = 0;
+  double previous_face = 12.0;  // rest
+  for (double face : {9.5, 8.0, 7.0, 6.0, 5.0, 5.0, 7.5}) {
+    const bool still = face == previous_face;  // the bone did not move since the last measurement
+    previous_face = face;
+    const ContactReport& r = resolver.measureOnly({translationY(50.0 + face)}, probes, field);
+    int contacts = 0;
+    double deepest = 0.0;
+    for (int i = 0; i < 300; ++i) {  // the free sphere's probes (the attached one is beyond the box)
+      const double depth = projected(1, i) - face;
+      if (depth > 1e-9) ++contacts;
+      deepest = std::max(deepest, depth);
+    }
+    EXPECT_EQ(r.contacts, contacts) << "face at y = " << face;
+    EXPECT_NEAR(r.max_penetration_mm, deepest, 1e-9) << "face at y = " << face;
+    EXPECT_NEAR(r.max_penetration_free_mm, deepest, 1e-9) << "the pressed sphere is free surface";
+    EXPECT_EQ(r.stop, ContactStop::kMeasureOnly);
+    if (still) {
+      still_queries = r.probe_queries;
+      still_contacts = r.contacts;
+    }
+  }
+  EXPECT_GT(still_contacts, 50);
+  EXPECT_GE(still_queries, 0);
+  EXPECT_LT(still_queries, still_contacts / 4) << "contacts certain from the last measurement are not queried again";
+}
+
 TEST(ContactResolver, BadInputNamesTheFault) {
   const GaussianField field = makeTwoSpheres();
   ContactSettings settings;
@@ -217,6 +253,27 @@ TEST(SurfaceProbes, ProjectionThicknessAndSampling) {
   EXPECT_GE(probes.cols(), 400);
   EXPECT_EQ(sampleSurfaceProbes(sphere, 100000).cols(), sphere.countVertices());
   EXPECT_THROW(sampleSurfaceProbes(sphere, 0), std::invalid_argument);
+}
+
+TEST(SurfaceProbes, LocalFieldEvaluatorGivesTheFieldsNumbersBitwise) {
+  // Centres of very different widths around a probe group; at points within the collected
+  // radius the local sum equals calcValueAndGradient bit for bit (same test, same order).
+  Eigen::Matrix3Xd xi = Eigen::Matrix3Xd::Random(3, 200) * 40.0;
+  Eigen::VectorXd lambda = Eigen::VectorXd::Random(200);
+  Eigen::VectorXd alpha(200);
+  for (int k = 0; k < 200; ++k) alpha(k) = std::pow(10.0, -1.5 + 2.5 * Eigen::Vector2d::Random()(0));  // 10^-4 … 10 mm⁻²
+  const GaussianField field(-0.1, xi, lambda, alpha);
+  const Eigen::VectorXd cutoff_radius = (-std::log(field.getCutoff()) / alpha.array()).sqrt();
+  const Eigen::Vector3d c(3.0, -2.0, 1.0);
+  LocalFieldEvaluator evaluate;
+  evaluate.collect(field, cutoff_radius, c, 6.0);
+  EXPECT_LT(evaluate.size(), field.getNumCentres());
+  for (int j = 0; j < 50; ++j) {
+    const Eigen::Vector3d x = c + 6.0 * Eigen::Vector3d::Random().normalized() * (j / 50.0);
+    Eigen::Vector3d g_local, g_field;
+    EXPECT_EQ(evaluate(x, g_local), calcValueAndGradient(field, x, g_field));
+    EXPECT_TRUE(g_local == g_field) << g_local.transpose() << " vs " << g_field.transpose();
+  }
 }
 
 TEST(ScrewInterpolation, RotationAboutAPointFollowsTheArc) {
