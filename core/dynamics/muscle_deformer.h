@@ -123,9 +123,10 @@ class MuscleDeformer {
   const DescentReport& getDescentReport() const { return descent_report_; }
 
   /// Box (mm, M) holding the current surface: the box of the current quadrature
-  /// points (they cover {f > −β}) padded by one quadrature cell.
-  Eigen::AlignedBox3d calcCurrentBox() const;
-  /// The current surface {f = 0} by extractIsoSurface over calcCurrentBox() with spacing cell_mm.
+  /// points (they cover {f > −β}) padded by one quadrature cell, its corners rounded
+  /// outwards to the lattice cell_mm·ℤ³ of M (grids over it share nodes between frames).
+  Eigen::AlignedBox3d calcCurrentBox(double cell_mm) const;
+  /// The current surface {f = 0} by extractIsoSurface over calcCurrentBox(cell_mm) with spacing cell_mm.
   /// @throws std::invalid_argument if cell_mm ≤ 0.
   TriangleMesh extractSurface(double cell_mm) const;
 

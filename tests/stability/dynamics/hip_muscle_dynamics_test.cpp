@@ -202,11 +202,13 @@ TEST(IliacusDynamics, FlexionTo80InOneDegreeSteps) {
 // Issue 4 also asks that no frame jumps further than the bone moves. Before the guard's
 // weight changes were carried from frame to frame and the fits were clamped at 10 mm,
 // pieces were rejoined (or not) afresh every frame and the surface jumped by up to 19 mm
-// beyond the femur's move at 1° steps. What is left, beyond the femur's move plus 1 mm:
-// at 1° steps the gluteus by up to 3.3 mm (52°, where the field is flat: |∇f| ≈ 0.13 at
-// the jumping points) and the iliacus by up to 1.8 mm (29°, one frame); at 10° steps the
-// gluteus by up to 4.3 mm (80°).
-TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo3_3mm_Issue4Open) {
+// beyond the femur's move at 1° steps; with the guard's grid sliding with the motion, by
+// up to 3.3 mm (gluteus) and 1.8 mm (iliacus). Since the grid is fixed in M, what is left
+// beyond the femur's move plus 1 mm: at 1° steps the gluteus by up to 2.1 mm (61°, where
+// the stretched field is flat: |∇f| ≈ 0.13 at the jumping point, f moved by 0.13) and the
+// iliacus by up to 0.39 mm (47°); at 10° steps the gluteus by up to 4.3 mm (80°, where the
+// stretched belly thins: points 4–5 field units deep at 70° are on the surface at 80°).
+TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo2_1mm_Issue4Open) {
   runFlexion(gluteus(), gluteusAttachments(gluteus()), 1, 80, true);
 }
 
@@ -214,7 +216,7 @@ TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtTenDegreeSteps_JumpsUpTo4_3mm_Issu
   runFlexion(gluteus(), gluteusAttachments(gluteus()), 10, 80, true);
 }
 
-TEST(IliacusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo1_8mm_Issue4Open) {
+TEST(IliacusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo0_4mm_Issue4Open) {
   runFlexion(iliacus(), iliacusAttachments(iliacus()), 1, 80, true);
 }
 
