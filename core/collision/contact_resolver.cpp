@@ -93,6 +93,10 @@ ContactResolver::ContactResolver(std::vector<ContactBone> bones, const GaussianF
   for (ContactBone& bone : bones_) {
     BoneSet set;
     set.addBone(bone.name, bone.mesh_B);
+    // The certified bounds (class comment, Culling) already leave only probes near the bone;
+    // BoneSet's own culling (answers unchanged either way) then only costs: 0.3-0.4 ms per
+    // iliacus frame for its FCL cloud-sphere test.
+    set.setBroadPhaseEnabled(false);
     set.setBoneTransforms({bone.X_MB_rest});
     bone_sets_.push_back(std::move(set));
     X_MB_prev_.push_back(bone.X_MB_rest);

@@ -114,7 +114,8 @@ struct ContactReport {
 /// back to its rest depth" thins the muscle instead of moving it and never converges.
 /// Excluded pairs are never queried; their number is in countExcludedPairs().
 ///
-/// **Culling.** One BoneSet per bone gives per-bone signed distances. Each (i, b) keeps the
+/// **Culling.** One BoneSet per bone (its own culling off: these bounds do it) gives per-bone
+/// signed distances. Each (i, b) keeps the
 /// reference s_ref and probe position p_ref (bone frame) of its last exact query; as s is
 /// 1-Lipschitz, s_ib ≥ s_ref − ‖X_BM x − p_ref‖ − (projection travel), and the pair is
 /// queried only when that bound is below −a_ib + query_band_mm. A probe with no pair to
