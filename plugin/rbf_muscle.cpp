@@ -334,7 +334,7 @@ void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::
     contact_field_->setWeights(field.getWeights());
     contact_field_->setOffset(field.getOffset());
     measured = &contact_resolver_->resolve(X_MB, carried_probes_M_, *contact_field_, true);
-    if (measured->moved_centres > 0) deformer_->setCurrentCentres(contact_field_->getCentres());
+    if (measured->moved_centres > 0) deformer_->applyKeptCorrection(contact_field_->getCentres());
   } else {  // measuring reads the deformer's field itself
     measured = &contact_resolver_->measureOnly(X_MB, carried_probes_M_, field);
   }

@@ -111,6 +111,7 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   previous_predicted_mm_ = predicted_centres_mm_;
   has_previous_ = true;
   predictPoints(quadrature_.points_mm, point_weights_, transforms_, current_points_mm_);
+  if (kept_offset_mm_.cols() > 0) addKeptOffsetToPoints(current_points_mm_);
   cost_->setPoints(current_points_mm_);
   // det ∂P/∂x by central differences of the prediction (weights of the shifted points).
   const double step = jacobianStep();
@@ -129,7 +130,9 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   result_.predict_ms = msSince(start);
 
   start = std::chrono::steady_clock::now();
-  descent_report_ = descent_->run(field_, predicted_centres_mm_);
+  anchors_mm_ = predicted_centres_mm_;
+  if (kept_offset_mm_.cols() > 0) anchors_mm_ += kept_offset_mm_;
+  descent_report_ = descent_->run(field_, anchors_mm_);
   result_.descent_ms = msSince(start);
 
   start = std::chrono::steady_clock::now();
@@ -180,6 +183,27 @@ void MuscleDeformer::setCurrentCentres(const Eigen::Matrix3Xd& centres_mm) {
                                 " centres, expected " + std::to_string(field_.getNumCentres()));
   }
   field_.setCentrePositions(centres_mm);
+}
+
+void MuscleDeformer::applyKeptCorrection(const Eigen::Matrix3Xd& centres_mm) {
+  const Eigen::Matrix3Xd before = field_.getCentres();
+  setCurrentCentres(centres_mm);
+  if (kept_offset_mm_.cols() == 0) kept_offset_mm_ = Eigen::Matrix3Xd::Zero(3, field_.getNumCentres());
+  for (int k = 0; k < field_.getNumCentres(); ++k)
+    if (!attachments_.isAttached(k)) kept_offset_mm_.col(k) += field_.getCentres().col(k) - before.col(k);
+}
+
+void MuscleDeformer::addKeptOffsetToPoints(Eigen::Matrix3Xd& points_mm) const {
+  // Σ φₖ(p) δₖ / Σ φₖ(p) over the current centres and shapes, by fields with unit and
+  // offset-component weights (the field's own cut-off and parallel evaluation).
+  const Eigen::Matrix3Xd& centres = field_.getCentres();
+  const Eigen::VectorXd& shapes = field_.getShapes();
+  Eigen::VectorXd sum, part;
+  GaussianField(0.0, centres, Eigen::VectorXd::Ones(centres.cols()), shapes).calcValues(points_mm, sum);
+  for (int c = 0; c < 3; ++c) {
+    GaussianField(0.0, centres, kept_offset_mm_.row(c).transpose(), shapes).calcValues(points_mm, part);
+    points_mm.row(c).array() += part.array().transpose() / sum.array().max(1e-12).transpose();
+  }
 }
 
 double MuscleDeformer::jacobianStep() const {

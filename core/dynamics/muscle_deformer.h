@@ -102,6 +102,14 @@ class MuscleDeformer {
   /// @throws std::invalid_argument on a size mismatch or a non-finite centre.
   void setCurrentCentres(const Eigen::Matrix3Xd& centres_mm);
 
+  /// Like setCurrentCentres, for a correction the following frames keep (the contact
+  /// response): each free centre's move is added to its kept offset; from the next frame
+  /// on the descent's anchors are prediction + offset, and the quadrature points (curvature
+  /// targets, volume) move by the Gaussian-weighted mean offset of the centres around them,
+  /// so neither the regulariser nor the curvature cost pulls the correction back.
+  /// @throws std::invalid_argument as setCurrentCentres.
+  void applyKeptCorrection(const Eigen::Matrix3Xd& centres_mm);
+
   /// The current field (M, mm); the rest field before the first update.
   const GaussianField& getField() const { return field_; }
   /// The rest field.
@@ -133,6 +141,8 @@ class MuscleDeformer {
  private:
   /// Step of the Jacobian differences (mm).
   double jacobianStep() const;
+  /// Moves points by the Gaussian-weighted mean of the centres' kept offsets.
+  void addKeptOffsetToPoints(Eigen::Matrix3Xd& points_mm) const;
 
   GaussianField rest_field_;
   GaussianField field_;
@@ -148,6 +158,8 @@ class MuscleDeformer {
   std::vector<DualQuaternion> transforms_;
   Eigen::Matrix3Xd predicted_centres_mm_;
   Eigen::Matrix3Xd previous_predicted_mm_;  ///< prediction of the previous frame (warm start)
+  Eigen::Matrix3Xd kept_offset_mm_;         ///< kept corrections per centre (applyKeptCorrection), empty if none
+  Eigen::Matrix3Xd anchors_mm_;             ///< the descent's anchors: prediction + kept_offset_mm_
   Eigen::Matrix3Xd start_centres_mm_;       ///< start of this frame's descent (warm start)
   bool has_previous_ = false;               ///< whether a frame was computed
   Eigen::Matrix3Xd current_points_mm_;

@@ -2,6 +2,7 @@
 /// over 0°, 10°, 20° hip flexion against the pelvis and femur meshes, measured only (the
 /// default) and with the response on; the iliacus against the pelvis proxy with the response.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cmath>
@@ -131,33 +132,48 @@ StorageTable runIliacus(const std::string& name, int last_deg) {
   return readStorage((dir / "out/outputs.sto").string());
 }
 
-void expectEveryFrameWithinTolerance(const StorageTable& table, size_t frames) {
-  ASSERT_EQ(table.rows.size(), frames);
-  const int penetration = table.findColumn("iliacus_r.max_penetration_mm");
+/// Every frame of `table` from `first_frame` to `last_frame` within the tolerance (0.5 mm)
+/// in `column` (iliacus_r.max_penetration_mm or ..._free_mm), and the deformer alone
+/// pressing the iliacus into the pelvis somewhere (so the response had work to do).
+void expectFramesWithinTolerance(const StorageTable& table, const std::string& column, size_t last_frame) {
+  ASSERT_GT(table.rows.size(), last_frame);
+  const int penetration = table.findColumn(column);
   const int before = table.findColumn("iliacus_r.max_penetration_before_mm");
   ASSERT_GE(penetration, 0);
   ASSERT_GE(before, 0);
   double worst_before = 0.0;
-  for (size_t f = 0; f < table.rows.size(); ++f) {
-    EXPECT_LE(table.rows[f][static_cast<size_t>(penetration)], 0.5) << "frame " << f << " (" << f << "°)";
+  for (size_t f = 0; f <= last_frame; ++f) {
+    EXPECT_LE(table.rows[f][static_cast<size_t>(penetration)], 0.5) << column << " frame " << f << " (" << f << "°)";
     worst_before = std::max(worst_before, table.rows[f][static_cast<size_t>(before)]);
   }
-  EXPECT_GT(worst_before, 0.5);  // the deformer alone does press the iliacus into the pelvis
+  EXPECT_GT(worst_before, 0.5);
 }
 
-// The pelvis proxy presses the iliacus harder each degree (the blend prediction alone: 13 mm
-// at 80°); through 17° the response keeps every frame within the tolerance. (Through 20°
-// until 5585db0, whose grid corners on a lattice changed the deformed surface: 18° and 20°
-// now stop at the iteration cap at 0.65 and 1.08 mm, and 30 iterations do not help.)
-TEST(RBFMuscleContacts, IliacusStaysOutOfThePelvisThrough17DegreesOfFlexion) {
-  expectEveryFrameWithinTolerance(runIliacus("iliacus_17", 17), 18);
+class IliacusContactsTo80 : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { table_ = runIliacus("iliacus_80_" + std::to_string(::getpid()), 80); }
+  static StorageTable table_;
+};
+StorageTable IliacusContactsTo80::table_;
+
+// The pelvis proxy presses the iliacus harder each degree (the blend prediction alone:
+// 13 mm at 80°). The response's pushes are kept by the deformer (applyKeptCorrection), so
+// the next frames do not pull them back: wherever the surface is made mostly by free
+// centres, every frame is within the tolerance through 80°.
+TEST_F(IliacusContactsTo80, FreeSurfaceStaysOutOfThePelvisEveryFrame) {
+  expectFramesWithinTolerance(table_, "iliacus_r.max_penetration_free_mm", 80);
 }
 
-// Open (issue 5): from 18° the response stops at its iteration cap with probes up to 2.4 mm
-// deep (59 of 81 frames above 0.5 mm, measured 2026-11-23 at 5585db0; 3–3.4 mm from 30°
-// before it); see models/hip/README.md.
-TEST(RBFMuscleContacts, DISABLED_IliacusStaysOutOfThePelvisThrough80Degrees_Fails2_4mmFrom18Degrees) {
-  expectEveryFrameWithinTolerance(runIliacus("iliacus_80", 80), 81);
+// All probes, attachment surface included: within the tolerance through 54°.
+TEST_F(IliacusContactsTo80, WholeSurfaceStaysOutOfThePelvisThrough54Degrees) {
+  expectFramesWithinTolerance(table_, "iliacus_r.max_penetration_mm", 54);
+}
+
+// Open (issue 5): from 55° probes on surface made mostly by attached centres (which the
+// response may not move) are up to 2.1 mm deep at 80° (26 of 81 frames above 0.5 mm,
+// measured 2026-11-23; 2.4 mm from 18° before the kept corrections).
+TEST_F(IliacusContactsTo80, DISABLED_WholeSurfaceThrough80Degrees_Fails2_1mmFrom55DegreesOnAttachedSurface) {
+  expectFramesWithinTolerance(table_, "iliacus_r.max_penetration_mm", 80);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace rbfmuscle {
 namespace {
@@ -59,6 +60,50 @@ TEST(MuscleDeformer, BendingKeepsTheVolumeAndTheAttachments) {
     const Eigen::Vector3d expected = motion[static_cast<size_t>(b)] * Eigen::Vector3d(field.getCentres().col(k));
     EXPECT_LT((d.getField().getCentres().col(k) - expected).norm(), 1e-9) << "centre " << k;
   }
+}
+
+/// Mean move along +y, from `rest`, of the free centres whose rest x is in [−5, 5] mm.
+double meanPushOfMiddle(const Eigen::Matrix3Xd& centres, const GaussianField& rest, const Attachments& att) {
+  double sum = 0.0;
+  int n = 0;
+  for (int k = 0; k < rest.getNumCentres(); ++k)
+    if (!att.isAttached(k) && std::abs(rest.getCentres()(0, k)) <= 5.0) {
+      sum += centres(1, k) - rest.getCentres()(1, k);
+      ++n;
+    }
+  return n > 0 ? sum / n : NAN;
+}
+
+// The contact response hands its push back as a kept correction: the next frame's
+// descent anchors and quadrature points move with it, so the push is not undone. With
+// setCurrentCentres (a disturbance, as in the restore test) the next frame pulls back.
+TEST(MuscleDeformer, AKeptCorrectionStaysInTheNextFramesAndADisturbanceIsPulledBack) {
+  const GaussianField field = test::makeRodField();
+  const Attachments att = test::makeRodAttachments(field);
+  Eigen::Matrix3Xd pushed = field.getCentres();
+  for (int k = 0; k < field.getNumCentres(); ++k)
+    if (!att.isAttached(k) && std::abs(pushed(0, k)) <= 5.0) pushed(1, k) += 1.0;
+  ASSERT_NEAR(meanPushOfMiddle(pushed, field, att), 1.0, 1e-12);
+  double kept = 0.0, disturbed = 0.0;
+  for (const bool keep : {true, false}) {
+    MuscleDeformer d(field, att);
+    d.update(bend(0.0));
+    if (keep) {
+      d.applyKeptCorrection(pushed);
+    } else {
+      d.setCurrentCentres(pushed);
+    }
+    for (int frame = 0; frame < 3; ++frame) {
+      const DeformResult& r = d.update(bend(0.0));
+      EXPECT_NEAR(r.volume_ratio, 1.0, 1e-2) << "keep " << keep << " frame " << frame;
+    }
+    (keep ? kept : disturbed) = meanPushOfMiddle(d.getField().getCentres(), field, att);
+    for (int k = 0; k < field.getNumCentres(); ++k)
+      if (att.isAttached(k)) EXPECT_EQ(d.getField().getCentres().col(k), field.getCentres().col(k)) << k;
+  }
+  std::printf("push of 1 mm after 3 frames: kept %.3f mm, disturbance %.3f mm\n", kept, disturbed);
+  EXPECT_GT(kept, 0.9);
+  EXPECT_LT(disturbed, kept - 0.2);
 }
 
 // Regression: the Jacobian of the prediction used the rest weights of the unshifted
