@@ -112,15 +112,7 @@ ContactResolver::ContactResolver(std::vector<ContactBone> bones, const GaussianF
   free_share_.resize(P);
   ActiveCentres active;
   for (int i = 0; i < P; ++i) {
-    rest_field.findActiveCentres(probes_M_.col(i), active);
-    double free = 0.0, all = 0.0;
-    for (int q = 0; q < active.size(); ++q) {
-      const int k = active.indices[static_cast<size_t>(q)];
-      const double w = std::abs(rest_field.getWeights()(k) * active.phi[static_cast<size_t>(q)]);
-      all += w;
-      if (free_centres_[static_cast<size_t>(k)]) free += w;
-    }
-    free_share_(i) = all > 0.0 ? free / all : 0.0;
+    free_share_(i) = calcFreeShare(rest_field, probes_M_.col(i), active);
   }
   carried_prev_M_ = rest_probes_M;
   rest_distance_mm_.resize(P, B);
@@ -266,17 +258,22 @@ double ContactResolver::calcFreeSurfacePenetration(const GaussianField& field) {
   std::sort(active_.begin(), active_.end(), [&](int a, int b) { return excess_mm_(a) > excess_mm_(b); });
   ActiveCentres active;
   for (int i : active_) {  // deepest first: the first probe on free surface gives the answer
-    field.findActiveCentres(probes_M_.col(i), active);
-    double free = 0.0, all = 0.0;
-    for (int q = 0; q < active.size(); ++q) {
-      const int k = active.indices[static_cast<size_t>(q)];
-      const double w = std::abs(field.getWeights()(k) * active.phi[static_cast<size_t>(q)]);
-      all += w;
-      if (free_centres_[static_cast<size_t>(k)]) free += w;
-    }
-    if (all > 0.0 && free >= 0.5 * all) return excess_mm_(i);
+    if (calcFreeShare(field, probes_M_.col(i), active) >= 0.5) return excess_mm_(i);
   }
   return 0.0;
+}
+
+double ContactResolver::calcFreeShare(const GaussianField& field, const Eigen::Vector3d& p_M,
+                                      ActiveCentres& active) const {
+  field.findActiveCentres(p_M, active);
+  double free = 0.0, all = 0.0;
+  for (int q = 0; q < active.size(); ++q) {
+    const int k = active.indices[static_cast<size_t>(q)];
+    const double w = std::abs(field.getWeights()(k) * active.phi[static_cast<size_t>(q)]);
+    all += w;
+    if (free_centres_[static_cast<size_t>(k)]) free += w;
+  }
+  return all > 0.0 ? free / all : 0.0;
 }
 
 Eigen::Vector3d ContactResolver::calcStartPoint(int i, const Eigen::Matrix3Xd& carried_M) const {
@@ -454,15 +451,7 @@ double ContactResolver::measure(const GaussianField& field, bool measure_only) {
       worst = std::max(worst, excess_mm_(i));
       have_worst = true;
     }
-    field.findActiveCentres(probes_M_.col(i), active);
-    double free = 0.0, all = 0.0;
-    for (int q = 0; q < active.size(); ++q) {
-      const int k = active.indices[static_cast<size_t>(q)];
-      const double w = std::abs(field.getWeights()(k) * active.phi[static_cast<size_t>(q)]);
-      all += w;
-      if (free_centres_[static_cast<size_t>(k)]) free += w;
-    }
-    if (all > 0.0 && free >= 0.5 * all) {
+    if (calcFreeShare(field, probes_M_.col(i), active) >= 0.5) {
       free_penetration_mm_ = excess_mm_(i);
       break;
     }

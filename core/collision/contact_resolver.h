@@ -236,6 +236,9 @@ class ContactResolver {
   double calcFreeSurfacePenetration(const GaussianField& field);
   /// Where probe i starts for carried points `carried_M` (class comment, Probes).
   Eigen::Vector3d calcStartPoint(int i, const Eigen::Matrix3Xd& carried_M) const;
+  /// Share of Σ|λₖ φₖ(p)| made by free centres at p (0 where no centre is active);
+  /// `active` is a work buffer.
+  double calcFreeShare(const GaussianField& field, const Eigen::Vector3d& p_M, ActiveCentres& active) const;
   /// Projects and queries the probes that may be within the band of a bone; fills excess_.
   /// @return max(0, max_i e_i)
   /// `measure_only`: no query band, and pairs certainly inside are not queried unless they may

@@ -107,6 +107,8 @@ class MuscleDeformer {
   /// on the descent's anchors are prediction + offset, and the quadrature points (curvature
   /// targets, volume) move by the Gaussian-weighted mean offset of the centres around them,
   /// so neither the regulariser nor the curvature cost pulls the correction back.
+  /// Limit: offsets are kept for the whole run (no relaxation), so a muscle pushed by a
+  /// bone that later moves away stays pushed; the hip scenes run the response off.
   /// @throws std::invalid_argument as setCurrentCentres.
   void applyKeptCorrection(const Eigen::Matrix3Xd& centres_mm);
 
