@@ -51,10 +51,16 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
   for (int k = 0; k < N; ++k) free_mask[static_cast<size_t>(k)] = !attachments.isAttached(k);
   descent_ = std::make_unique<CurvatureDescent>(*cost_, free_mask, settings.descent);
   const double h = quadrature_.cell_mm;
-  volume_keeper_ = std::make_unique<VolumeKeeper>(quadrature_.points_mm, h * h * h, rest_field_, settings.volume);
+  // The volume is kept through the free centres, in proportion to their rest |λ|
+  // (volume_keeper.h: a global offset inflated the attachments into their bones).
+  const Eigen::VectorXd rest_abs = rest_field_.getWeights().cwiseAbs();
+  Eigen::VectorXd correction_weights = rest_abs;
+  for (int k = 0; k < N; ++k)
+    if (attachments.isAttached(k)) correction_weights(k) = 0.0;
+  volume_keeper_ =
+      std::make_unique<VolumeKeeper>(quadrature_.points_mm, h * h * h, rest_field_, correction_weights, settings.volume);
   // Weight limits of the guard: twice the rest weight plus the mean rest weight, so a
   // near-zero weight can still help fill a cavity but no weight grows without bound.
-  const Eigen::VectorXd rest_abs = rest_field_.getWeights().cwiseAbs();
   const Eigen::VectorXd limits = (2.0 * rest_abs.array() + rest_abs.mean()).matrix();
   topology_guard_ = std::make_unique<TopologyGuard>(free_mask, limits, settings.topology);
   transforms_.assign(static_cast<size_t>(attachments.num_bones), DualQuaternion{});
@@ -91,6 +97,8 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     transforms_[b] = toDualQuaternion(bone_motion_M[b]);
   }
   auto start = std::chrono::steady_clock::now();
+  // The descent compares κ of the field without the volume correction with κ₀.
+  volume_keeper_->removeCorrection(field_);
   predictCentres(rest_field_.getCentres(), attachments_, centre_weights_, transforms_, predicted_centres_mm_);
   if (settings_.warm_start && has_previous_) {
     // Previous corrected centres carried by the change of the prediction; attached
@@ -106,7 +114,7 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     // The weight limits bound what can pile up.
     field_.setCentrePositions(predicted_centres_mm_);
     field_.setWeights(rest_field_.getWeights());
-    field_.setOffset(rest_field_.getOffset());
+    volume_keeper_->forgetCorrection();
   }
   previous_predicted_mm_ = predicted_centres_mm_;
   has_previous_ = true;

@@ -34,8 +34,8 @@ struct DeformerSettings {
   double jacobian_step_mm = 0.0;
   /// true: each frame's descent starts from the previous frame's corrected centres
   /// moved by the change of the prediction (ξ_prev + P_now − P_prev), with the previous
-  /// weights (the guard's changes carried) and the volume step from the previous offset b;
-  /// false: every frame starts from the prediction, the rest weights and b_rest. Either
+  /// weights (the guard's changes carried) and the volume search from the previous correction;
+  /// false: every frame starts from the prediction and the rest weights. Either
   /// way the same sequence of transforms gives the same fields.
   bool warm_start = true;
   /// Cut-off ε on φ of the deformed field (GaussianField::setCutoff): centre k is ignored
@@ -71,7 +71,8 @@ struct DeformResult {
 ///     their rest blend weights; the quadrature points keep their rest κ₀ (mean
 ///     curvature is invariant under rigid motion);
 ///  2. descent (curvature_descent.h) of the free centres, anchored at the prediction;
-///  3. volume (volume_keeper.h): b solved so the volume equals the rest volume;
+///  3. volume (volume_keeper.h): the free centres' weights scaled (δ·|λ rest|) so the volume
+///     equals the rest volume; the correction is taken out before the next descent;
 ///  4. one piece (topology_guard.h): through the weights of free centres, crumbs that
 ///     came apart from the body are lowered below zero, larger pieces are joined back
 ///     and cavities filled; then step 3 runs again, and both repeat while the guard

@@ -98,8 +98,11 @@ TEST(MuscleDeformer, AKeptCorrectionStaysInTheNextFramesAndADisturbanceIsPulledB
       EXPECT_NEAR(r.volume_ratio, 1.0, 1e-2) << "keep " << keep << " frame " << frame;
     }
     (keep ? kept : disturbed) = meanPushOfMiddle(d.getField().getCentres(), field, att);
-    for (int k = 0; k < field.getNumCentres(); ++k)
-      if (att.isAttached(k)) EXPECT_EQ(d.getField().getCentres().col(k), field.getCentres().col(k)) << k;
+    for (int k = 0; k < field.getNumCentres(); ++k) {
+      if (att.isAttached(k)) {
+        EXPECT_EQ(d.getField().getCentres().col(k), field.getCentres().col(k)) << k;
+      }
+    }
   }
   std::printf("push of 1 mm after 3 frames: kept %.3f mm, disturbance %.3f mm\n", kept, disturbed);
   EXPECT_GT(kept, 0.9);
