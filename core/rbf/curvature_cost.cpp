@@ -89,6 +89,7 @@ void CurvatureCost::setPoints(const Eigen::Matrix3Xd& points_mm) {
   }
   checkPoints(points_mm);
   points_mm_ = points_mm;
+  lists_built_ = false;
 }
 
 void CurvatureCost::setTargetCurvatures(const Eigen::VectorXd& target_curvatures) {
@@ -101,6 +102,17 @@ Eigen::Index CurvatureCost::findBlockSize() const {
   return std::max(kMinBlockSize, (m + kMaxBlocks - 1) / kMaxBlocks);
 }
 
+bool CurvatureCost::listsAreValid(const GaussianField& field) const {
+  if (!lists_built_ || listed_centres_mm_.cols() != field.getNumCentres() || listed_shapes_ != field.getShapes() ||
+      listed_cutoff_ != field.getCutoff())
+    return false;
+  const double skin2 = kNeighbourSkinMm * kNeighbourSkinMm;
+  const Eigen::Matrix3Xd& centres = field.getCentres();
+  for (Eigen::Index k = 0; k < centres.cols(); ++k)
+    if ((centres.col(k) - listed_centres_mm_.col(k)).squaredNorm() > skin2) return false;
+  return true;
+}
+
 void CurvatureCost::accumulateBlocks(const GaussianField& field, bool with_gradient) const {
   const Eigen::Index m = points_mm_.cols();
   const Eigen::Index n = field.getNumCentres();
@@ -111,15 +123,37 @@ void CurvatureCost::accumulateBlocks(const GaussianField& field, bool with_gradi
   const Eigen::Matrix3Xd& centres = field.getCentres();
   const Eigen::VectorXd& weights = field.getWeights();
   const Eigen::VectorXd& shapes = field.getShapes();
+  const bool rebuild = !listsAreValid(field);
+  if (rebuild) {
+    near_.resize(static_cast<size_t>(blocks));
+    near_start_.resize(static_cast<size_t>(blocks));
+    listed_centres_mm_ = centres;
+    listed_shapes_ = shapes;
+    listed_cutoff_ = field.getCutoff();
+    lists_built_ = true;
+  }
 
 #pragma omp parallel for schedule(dynamic, 1)
   for (Eigen::Index b = 0; b < blocks; ++b) {
     thread_local ActiveCentres active;
-    const Eigen::Index end = std::min(m, (b + 1) * block_size);
+    thread_local std::vector<int> found;
+    const Eigen::Index begin = b * block_size, end = std::min(m, (b + 1) * block_size);
+    std::vector<int>& near = near_[static_cast<size_t>(b)];
+    std::vector<int>& start = near_start_[static_cast<size_t>(b)];
+    if (rebuild) {
+      near.clear();
+      start.assign(1, 0);
+      for (Eigen::Index q = begin; q < end; ++q) {
+        field.findNearCentres(points_mm_.col(q), kNeighbourSkinMm, found);
+        near.insert(near.end(), found.begin(), found.end());
+        start.push_back(static_cast<int>(near.size()));
+      }
+    }
     double cost = 0.0;
-    for (Eigen::Index q = b * block_size; q < end; ++q) {
+    for (Eigen::Index q = begin; q < end; ++q) {
       const Eigen::Vector3d p = points_mm_.col(q);
-      field.findActiveCentres(p, active);
+      const size_t i = static_cast<size_t>(q - begin);
+      field.findActiveCentresAmong(p, near.data() + start[i], start[i + 1] - start[i], active);
       // κ(q), summed exactly as GaussianField::calcMeanCurvature does.
       double kappa = 0.0;
       for (int j = 0; j < active.size(); ++j) {

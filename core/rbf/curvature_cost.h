@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <vector>
+
 namespace rbfmuscle {
 
 /// Quadrature of C = ∫_Ω (κ(x) − κ₀(x))² dx over points q (3×M, mm, muscle
@@ -14,7 +16,14 @@ namespace rbfmuscle {
 ///   C = Σ_q w_q (κ(q) − κ₀_q)²,
 ///   ∇_ξₖ C = 2 Σ_q w_q (κ(q) − κ₀_q) ∂κ(q)/∂ξₖ,
 ///   ∂κ(q)/∂ξₖ = (4/3) αₖ² λₖ φₖ (q − ξₖ)(2αₖ rₖ² − 5),
-/// with κ and the cut-off as in GaussianField (one neighbour search per point).
+/// with κ and the cut-off as in GaussianField.
+///
+/// Neighbour lists: each point keeps the centres within their cut-off radius plus
+/// kNeighbourSkinMm (GaussianField::findNearCentres), rebuilt only when the points, the
+/// shapes, the cut-off or the number of centres change, or a centre has moved more than the
+/// skin since the lists were built. In between, an evaluation tests only the listed centres:
+/// the same active centres in the same order, so the same numbers bitwise, without the grid
+/// searches that took about 45 % of a hip frame.
 ///
 /// Determinism: the points are split into blocks fixed by M alone; each block
 /// sums its points in order into its own buffer, and the blocks are reduced
@@ -23,6 +32,9 @@ namespace rbfmuscle {
 /// object must not be used from two threads at once.
 class CurvatureCost {
  public:
+  /// How far (mm) centres may move before the neighbour lists are rebuilt.
+  static constexpr double kNeighbourSkinMm = 1.0;
+
   /// @param points_mm quadrature points q (3×M, mm)
   /// @param weights_mm3 quadrature weights w (M, mm³, finite and ≥ 0)
   /// @param target_curvatures κ₀ (M, field unit / mm², finite)
@@ -65,12 +77,20 @@ class CurvatureCost {
   Eigen::Index findBlockSize() const;
   /// Shared kernel: fills block_cost_ and, when `with_gradient`, block_gradients_.
   void accumulateBlocks(const GaussianField& field, bool with_gradient) const;
+  /// Whether the neighbour lists hold every centre of `field` active at every point.
+  bool listsAreValid(const GaussianField& field) const;
 
   Eigen::Matrix3Xd points_mm_;
   Eigen::VectorXd weights_mm3_;
   Eigen::VectorXd target_curvatures_;
   mutable Eigen::VectorXd block_cost_;          ///< per block Σ w (κ − κ₀)²
   mutable Eigen::Matrix3Xd block_gradients_;    ///< 3 × (N · blocks), block b at columns b·N …
+  mutable std::vector<std::vector<int>> near_;  ///< per block, its points' neighbour lists one after another
+  mutable std::vector<std::vector<int>> near_start_;  ///< per block, where each point's list starts (size + 1)
+  mutable bool lists_built_ = false;            ///< false until built, and after setPoints
+  mutable Eigen::Matrix3Xd listed_centres_mm_;  ///< centres when the lists were built
+  mutable Eigen::VectorXd listed_shapes_;       ///< shapes then
+  mutable double listed_cutoff_ = 0.0;          ///< cut-off then
 };
 
 }  // namespace rbfmuscle

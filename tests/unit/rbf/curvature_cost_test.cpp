@@ -15,6 +15,7 @@
 #include <random>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -171,6 +172,60 @@ TEST(CurvatureCost, BitwiseDeterministicOverRunsThreadsAndPaths) {
   field.setUseGrid(false);
   EXPECT_EQ(cost.calcCostAndGradient(field, grad), c);
   EXPECT_TRUE(grad == reference);
+}
+
+// The neighbour lists of one object, kept while centres move by less than the skin and
+// rebuilt beyond it, give bitwise the numbers of a fresh object (lists built from the
+// current centres) at every step: steps of 0.4 mm cross the 1 mm skin on the third.
+TEST(CurvatureCost, NeighbourListsGiveAFreshObjectsNumbersWhileCentresMove) {
+  std::mt19937 rng(21);
+  GaussianField field = makeRandomField(rng, 300, 0.01, 1.0, 25.0, GaussianField::kDefaultCutoff);
+  const Eigen::Matrix3Xd points = makeQuadraturePoints(rng, 3000, 30.0);
+  const Eigen::VectorXd weights = makeWeights(rng, 3000);
+  const Eigen::VectorXd targets = CurvatureCost::calcTargetCurvatures(perturbed(field, rng, 1.0), points);
+  const CurvatureCost kept(points, weights, targets);
+  const Eigen::Vector3d step = Eigen::Vector3d(0.4, -0.2, 0.1).normalized() * 0.4;
+  for (int s = 0; s < 6; ++s) {
+    Eigen::Matrix3Xd centres = field.getCentres();
+    centres.colwise() += step;
+    centres.col(s) -= 3.0 * step;  // one centre moving the other way
+    field.setCentrePositions(centres);
+    const CurvatureCost fresh(points, weights, targets);
+    Eigen::Matrix3Xd grad_kept, grad_fresh;
+    EXPECT_EQ(kept.calcCostAndGradient(field, grad_kept), fresh.calcCostAndGradient(field, grad_fresh)) << s;
+    EXPECT_TRUE(grad_kept == grad_fresh) << s;
+    EXPECT_EQ(kept.calcCost(field), fresh.calcCost(field)) << s;
+  }
+}
+
+// findNearCentres lists every centre active after moves shorter than the skin (each centre
+// moved 1.9 mm in a random direction, skin 2 mm): findActiveCentresAmong over the old list
+// equals findActiveCentres entry by entry.
+TEST(GaussianFieldNeighbours, NearListHoldsEveryCentreActiveAfterAMoveWithinTheSkin) {
+  std::mt19937 rng(5);
+  GaussianField field = makeRandomField(rng, 400, 0.01, 1.0, 20.0, GaussianField::kDefaultCutoff);
+  const Eigen::Matrix3Xd points = makeQuadraturePoints(rng, 300, 25.0);
+  std::vector<std::vector<int>> near(static_cast<size_t>(points.cols()));
+  for (Eigen::Index q = 0; q < points.cols(); ++q) field.findNearCentres(points.col(q), 2.0, near[static_cast<size_t>(q)]);
+  std::normal_distribution<double> normal(0.0, 1.0);
+  Eigen::Matrix3Xd centres = field.getCentres();
+  for (Eigen::Index k = 0; k < centres.cols(); ++k)
+    centres.col(k) += 1.9 * Eigen::Vector3d(normal(rng), normal(rng), normal(rng)).normalized();
+  field.setCentrePositions(centres);
+  ActiveCentres all, among;
+  size_t listed = 0, active = 0;
+  for (Eigen::Index q = 0; q < points.cols(); ++q) {
+    const std::vector<int>& list = near[static_cast<size_t>(q)];
+    field.findActiveCentres(points.col(q), all);
+    field.findActiveCentresAmong(points.col(q), list.data(), static_cast<int>(list.size()), among);
+    EXPECT_EQ(among.indices, all.indices) << q;
+    EXPECT_EQ(among.phi, all.phi) << q;
+    EXPECT_EQ(among.r2_mm2, all.r2_mm2) << q;
+    listed += list.size();
+    active += all.indices.size();
+  }
+  EXPECT_GT(active, 0u);
+  EXPECT_LT(active, listed);  // the cut-off matters here: the lists are not every centre
 }
 
 TEST(CurvatureCost, RejectsBadInputNamingTheValue) {
