@@ -177,6 +177,7 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   result_.volume_mm3 = volume.volume_mm3;
   result_.volume_ratio = volume.volume_ratio;
   result_.volume_stop = volume.stop_reason;
+  result_.volume_correction = volume_keeper_->getCorrection();
   result_.curvature_cost = descent_report_.curvature_cost_final;
   result_.descent_cost_initial = descent_report_.cost_initial;
   result_.descent_cost_final = descent_report_.cost_final;
@@ -202,15 +203,19 @@ void MuscleDeformer::applyKeptCorrection(const Eigen::Matrix3Xd& centres_mm) {
 }
 
 void MuscleDeformer::addKeptOffsetToPoints(Eigen::Matrix3Xd& points_mm) const {
-  // Σ φₖ(p) δₖ / Σ φₖ(p) over the current centres and shapes, by fields with unit and
-  // offset-component weights (the field's own cut-off and parallel evaluation).
-  const Eigen::Matrix3Xd& centres = field_.getCentres();
-  const Eigen::VectorXd& shapes = field_.getShapes();
-  Eigen::VectorXd sum, part;
-  GaussianField(0.0, centres, Eigen::VectorXd::Ones(centres.cols()), shapes).calcValues(points_mm, sum);
-  for (int c = 0; c < 3; ++c) {
-    GaussianField(0.0, centres, kept_offset_mm_.row(c).transpose(), shapes).calcValues(points_mm, part);
-    points_mm.row(c).array() += part.array().transpose() / sum.array().max(1e-12).transpose();
+  // Σ φₖ(p) δₖ / Σ φₖ(p) over the current centres and shapes (the field's cut-off), one
+  // neighbour search per point; each point on its own, so the result is thread-independent.
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index j = 0; j < points_mm.cols(); ++j) {
+    thread_local ActiveCentres active;
+    field_.findActiveCentres(points_mm.col(j), active);
+    double sum = 0.0;
+    Eigen::Vector3d moved = Eigen::Vector3d::Zero();
+    for (int q = 0; q < active.size(); ++q) {
+      sum += active.phi[static_cast<size_t>(q)];
+      moved += active.phi[static_cast<size_t>(q)] * kept_offset_mm_.col(active.indices[static_cast<size_t>(q)]);
+    }
+    points_mm.col(j) += moved / std::max(sum, 1e-12);
   }
 }
 
@@ -233,9 +238,24 @@ Eigen::AlignedBox3d MuscleDeformer::calcCurrentBox(double cell_mm) const {
 
 TriangleMesh MuscleDeformer::extractSurface(double cell_mm) const {
   if (!(cell_mm > 0.0)) throw std::invalid_argument("MuscleDeformer::extractSurface: cell " + std::to_string(cell_mm) + " mm, expected > 0");
-  const GaussianField& field = field_;
-  return extractIsoSurface([&field](const Eigen::Matrix3Xd& p, Eigen::VectorXd& v) { field.calcValues(p, v); },
-                           calcCurrentBox(cell_mm), cell_mm);
+  // The field on every node by separable sums (field_on_grid.h), about 15× faster than
+  // evaluating the nodes one by one; the extraction then reads its layers from them.
+  const Eigen::AlignedBox3d box = calcCurrentBox(cell_mm);
+  RegularGrid grid;
+  grid.origin_mm = box.min();
+  grid.cell_mm = cell_mm;
+  grid.counts = countIsoSurfaceNodes(box, cell_mm);
+  std::vector<double> node_values;
+  calcValuesOnGrid(field_, grid, node_values);
+  const auto lookup = [&grid, &node_values](const Eigen::Matrix3Xd& p, Eigen::VectorXd& v) {
+    v.resize(p.cols());
+    for (Eigen::Index j = 0; j < p.cols(); ++j) {
+      const Eigen::Vector3d ijk = ((p.col(j) - grid.origin_mm) / grid.cell_mm).array().round();
+      v(j) = node_values[static_cast<size_t>(grid.index(static_cast<std::int64_t>(ijk.x()), static_cast<std::int64_t>(ijk.y()),
+                                                      static_cast<std::int64_t>(ijk.z())))];
+    }
+  };
+  return extractIsoSurface(lookup, box, cell_mm);
 }
 
 }  // namespace rbfmuscle

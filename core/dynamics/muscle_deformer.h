@@ -54,6 +54,7 @@ struct DeformResult {
   int iterations = 0;             ///< descent iterations
   DescentStop stop_reason = DescentStop::kIterationCap;  ///< why the descent stopped
   VolumeStop volume_stop = VolumeStop::kWithinTolerance;  ///< why the volume step stopped
+  double volume_correction = kNaN;  ///< δ of the volume correction (volume_keeper.h): free weights × (1 ± δ)
   int islands_found = 0;          ///< islands and cavities the guard removed this frame (summed over its passes)
   int islands_left = 0;           ///< islands and cavities at the guard's last look (0 unless it stopped early)
   TopologyStop topology_stop = TopologyStop::kDisabled;  ///< why the guard stopped

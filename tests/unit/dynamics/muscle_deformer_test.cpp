@@ -1,6 +1,7 @@
 #include "dynamics/muscle_deformer.h"
 
 #include "dynamics_test_shapes.h"
+#include "geometry/iso_surface.h"
 #include "geometry/mesh_measures.h"
 
 #include <gtest/gtest.h>
@@ -26,6 +27,22 @@ TEST(MuscleDeformer, RestPoseIsTheRestField) {
   EXPECT_EQ(d.getField().getCentres(), field.getCentres());
   EXPECT_EQ(r.iterations, 0);
   EXPECT_NEAR(r.volume_ratio, 1.0, 1e-12);
+}
+
+// extractSurface reads the field from a separable grid evaluation: the same mesh as the
+// extraction evaluating every node itself, up to rounding of the node values.
+TEST(MuscleDeformer, ExtractedSurfaceEqualsTheNodeByNodeExtraction) {
+  const GaussianField field = test::makeRodField();
+  MuscleDeformer d(field, test::makeRodAttachments(field));
+  d.update(bend(0.4));
+  const GaussianField& f = d.getField();
+  const TriangleMesh fast = d.extractSurface(0.7);
+  const TriangleMesh direct = extractIsoSurface([&f](const Eigen::Matrix3Xd& p, Eigen::VectorXd& v) { f.calcValues(p, v); },
+                                                d.calcCurrentBox(0.7), 0.7);
+  ASSERT_GT(fast.countVertices(), 100);
+  ASSERT_EQ(fast.countVertices(), direct.countVertices());
+  ASSERT_EQ(fast.triangles, direct.triangles);
+  EXPECT_LT((fast.vertices_mm - direct.vertices_mm).cwiseAbs().maxCoeff(), 1e-9);
 }
 
 TEST(MuscleDeformer, CommonRigidMotionMovesTheSurfaceRigidly) {
