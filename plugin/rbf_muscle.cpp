@@ -40,7 +40,9 @@ std::vector<Eigen::Vector3d> parseLandmarks(const std::string& text, const std::
 }
 
 /// A bone's collision meshes (visual ones if it has none) at rest, in M.
-TriangleMesh loadBoneMesh_M(const Skeleton& skeleton, int body, const Eigen::Vector3d& offset_mm) {
+/// @throws FrameworkError naming `needed_by` (the property) when the body has no mesh.
+TriangleMesh loadBoneMesh_M(const Skeleton& skeleton, int body, const Eigen::Vector3d& offset_mm,
+                            const std::string& needed_by) {
   const std::vector<BodyMesh>& meshes = skeleton.getBodyMeshes(body);
   bool any_collision = false;
   for (const BodyMesh& m : meshes) any_collision |= m.collision;
@@ -59,7 +61,7 @@ TriangleMesh loadBoneMesh_M(const Skeleton& skeleton, int body, const Eigen::Vec
     all.triangles.rightCols(part.triangles.cols()) = part.triangles.array() + static_cast<int>(base);
   }
   if (all.triangles.cols() == 0)
-    throw FrameworkError("proximity_mm > 0 needs a mesh on body '" + skeleton.getBodyNames()[body] +
+    throw FrameworkError(needed_by + " needs a mesh on body '" + skeleton.getBodyNames()[body] +
                          "' in " + skeleton.getUrdfPath());
   return all;
 }
@@ -139,11 +141,18 @@ void RBFMuscle::initialize(const InitContext& context) {
   attachByLandmarks(field, landmarks, attachments);
   if (proximity_mm.get() > 0) {
     std::vector<MeshDistance> bone_distance;
-    for (int body : bodies) bone_distance.emplace_back(loadBoneMesh_M(skeleton, body, frame_offset_mm_));
+    for (int body : bodies) bone_distance.emplace_back(loadBoneMesh_M(skeleton, body, frame_offset_mm_, "proximity_mm > 0"));
     std::vector<const MeshDistance*> bones_M;
     for (const MeshDistance& d : bone_distance) bones_M.push_back(&d);
     attachByProximity(field, bones_M, proximity_mm.get(), 1.0, attachments);
   }
+  const std::string& support = supporting_bodies.get();
+  if (support != "none" && support != "origin" && support != "insertion" && support != "both")
+    throw FrameworkError("supporting_bodies: expected origin, insertion, both or none, got '" + support + "'");
+  for (int bone = 0; bone < 2; ++bone)
+    if (support == "both" || support == (bone == 0 ? "origin" : "insertion"))
+      addSupport(bone, std::make_shared<const MeshDistance>(loadBoneMesh_M(skeleton, bodies[bone], frame_offset_mm_, "supporting_bodies")),
+                 attachments);
   for (int bone = 0; bone < 2; ++bone)
     if (attachments.countAttachedTo(bone) == 0)
       throw FrameworkError(std::string("no centre attaches to the ") + (bone ? "insertion" : "origin") +
@@ -238,7 +247,7 @@ void RBFMuscle::initializeFibres(const Skeleton& skeleton, const GaussianField& 
   std::vector<MeshDistance> bone_distance;
   try {
     for (int body : {origin_body.getBodyIndex(), insertion_body.getBodyIndex()})
-      bone_distance.emplace_back(loadBoneMesh_M(skeleton, body, frame_offset_mm_));
+      bone_distance.emplace_back(loadBoneMesh_M(skeleton, body, frame_offset_mm_, "line_of_action_mm"));
   } catch (const FrameworkError&) {
     bone_distance.clear();  // a body without mesh: intermediate points by arc length (class comment)
   }
@@ -297,6 +306,7 @@ void RBFMuscle::update(const FrameState& state) {
   const DeformResult& r = deformer_->getResult();
   result_.volume_mm3 = r.volume_mm3;
   result_.volume_ratio = r.volume_ratio;
+  result_.volume_correction = r.volume_correction;
   result_.curvature_cost = r.curvature_cost;
   result_.iterations = r.iterations;
   result_.descent_ms = descent_ms;

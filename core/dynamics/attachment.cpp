@@ -1,5 +1,6 @@
 #include "dynamics/attachment.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -102,6 +103,15 @@ void attachByProximity(const GaussianField& field, const std::vector<const MeshD
   }
 }
 
+void addSupport(int bone, std::shared_ptr<const MeshDistance> surface_M, Attachments& attachments) {
+  if (bone < 0 || bone >= attachments.num_bones || !surface_M) {
+    throw std::invalid_argument("addSupport: bone " + std::to_string(bone) + " of " +
+                                std::to_string(attachments.num_bones) + (surface_M ? "" : ", no surface"));
+  }
+  attachments.supports_M.resize(static_cast<size_t>(attachments.num_bones));
+  attachments.supports_M[static_cast<size_t>(bone)] = std::move(surface_M);
+}
+
 Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen::Matrix3Xd& rest_centres_mm,
                                  const Attachments& attachments, double length_mm) {
   if (static_cast<Eigen::Index>(attachments.bone_of_centre.size()) != rest_centres_mm.cols()) {
@@ -127,6 +137,10 @@ Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen:
       const double dist = (points_mm.col(j) - rest_centres_mm.col(k)).norm();
       if (dist < d(b)) d(b) = dist;
     }
+    for (size_t b = 0; b < attachments.supports_M.size(); ++b)
+      if (attachments.supports_M[b])
+        d(static_cast<Eigen::Index>(b)) = std::min(d(static_cast<Eigen::Index>(b)),
+                                                   attachments.supports_M[b]->calcUnsignedDistance(points_mm.col(j)));
     double sum = 0.0;
     for (int b = 0; b < B; ++b) {
       const double w = std::isfinite(d(b)) ? 1.0 / (d(b) + length_mm) : 0.0;

@@ -113,6 +113,17 @@ TEST(RBFMusclePlugin, MalformedLandmarksNameTheProperty) {
   EXPECT_NE(r.err.find("model.xml"), std::string::npos) << r.err;
 }
 
+TEST(RBFMusclePlugin, UnknownSupportingBodiesNameTheValue) {
+  const fs::path dir = testDir("bad_support");
+  const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
+                                         "' --quiet --set glmax_r.supporting_bodies=pelvis",
+                                     "plugin", "bad_support");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("supporting_bodies: expected origin, insertion, both or none, got 'pelvis'"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 TEST(RBFMusclePlugin, LandmarksAwayFromTheMuscleAreRefused) {
   const fs::path dir = testDir("far_landmarks");
   const HostResult r = runModel(writeModel(dir, kCachedGluteus, "0 0 0"), dir / "out", "far_landmarks");

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <memory>
 
 namespace rbfmuscle {
 namespace {
@@ -77,6 +78,41 @@ TEST(Attachment, BlendWeightsAreNormalisedInverseDistances) {
   // ℓ → large: equal weights.
   const Eigen::MatrixXd flat = calcBlendWeights(p, field.getCentres(), a, 1e9);
   EXPECT_NEAR(flat(0, 0), 0.5, 1e-6);
+}
+
+// A supporting bone counts its surface as attached: d_b = min(distance to its attached
+// centres, distance to its surface). A plate under the rod's middle (y = −6 mm, bone 0)
+// makes the middle follow bone 0 (without support it is half and half), and takes some
+// weight at x = 30 mm too, 21 mm from the plate.
+TEST(Attachment, SupportingBoneSurfaceCountsAsAttached) {
+  TriangleMesh plate;
+  plate.vertices_mm.resize(3, 3);
+  plate.vertices_mm << -10, 10, 0, -6, -6, -6, -10, -10, 10;
+  plate.triangles.resize(3, 1);
+  plate.triangles << 0, 1, 2;
+  const GaussianField field = test::makeRodField();
+  Attachments a = test::makeRodAttachments(field);
+  Eigen::Matrix3Xd p(3, 2);
+  p << 0, 30, 0, 0, 0, 0;
+  const double length_mm = 1.0;
+  const Eigen::MatrixXd plain = calcBlendWeights(p, field.getCentres(), a, length_mm);
+  const auto surface = std::make_shared<const MeshDistance>(plate);
+  addSupport(0, surface, a);
+  const Eigen::MatrixXd supported = calcBlendWeights(p, field.getCentres(), a, length_mm);
+  EXPECT_NEAR(plain(0, 0), 0.5, 1e-12);
+  for (int j = 0; j < 2; ++j) {
+    double d[2] = {1e300, 1e300};  // distance to each bone's attached set, by brute force
+    for (int k = 0; k < field.getNumCentres(); ++k) {
+      const int b = a.bone_of_centre[static_cast<size_t>(k)];
+      if (b >= 0) d[b] = std::min(d[b], (p.col(j) - field.getCentres().col(k)).norm());
+    }
+    d[0] = std::min(d[0], surface->calcUnsignedDistance(p.col(j)));
+    EXPECT_NEAR(supported(0, j), (d[1] + length_mm) / (d[0] + d[1] + 2.0 * length_mm), 1e-14) << j;
+  }
+  EXPECT_NEAR(surface->calcUnsignedDistance(p.col(0)), 6.0, 1e-12);
+  EXPECT_GT(supported(0, 0), 0.75);
+  EXPECT_THROW(addSupport(2, surface, a), std::invalid_argument);
+  EXPECT_THROW(addSupport(0, nullptr, a), std::invalid_argument);
 }
 
 }  // namespace
