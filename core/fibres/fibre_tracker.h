@@ -11,7 +11,7 @@
 ///  2. projection: interior points with f < margin in the current field are pushed
 ///     inside by a monotone ascent of f (projectInside, bounded steps: f never drops, so
 ///     the point ends at the highest f on its path); an end point below the margin gets
-///     the same ascent, but its path is capped at end_max_move_mm (0.45 mm), so it stays
+///     the same ascent, but its path is capped at end_max_move_mm (0.499 mm), so it stays
 ///     within issue 6's 0.5 mm of its bone-rigid place. Why: the ends are deep nodes of
 ///     the rest field (end_depth), yet where free centres next to an attachment move
 ///     away, the field there can drop below 0 (one gluteus end, 0.27 field units at

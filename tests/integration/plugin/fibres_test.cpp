@@ -96,7 +96,7 @@ TEST_F(HipFlexionFibres, RunsAndWritesEveryFibre) {
 // Issue 6: every fibre point inside (f > 0) through 80° flexion, fibre ends included, and
 // the ends within 0.5 mm of their bone's motion (they move rigidly with it, the generator
 // picks them at depth f ≥ end_depth, and the tracker pushes one that falls outside in by
-// at most end_max_move_mm = 0.45 mm).
+// at most end_max_move_mm = 0.499 mm).
 void expectEveryFibrePointInsideAndEndsOnTheirBones(const std::string& muscle, const StorageTable& table) {
   const int outside = table.findColumn(muscle + ".fiber_points_outside");
   const int end_offset = table.findColumn(muscle + ".fiber_end_offset_max_mm");
