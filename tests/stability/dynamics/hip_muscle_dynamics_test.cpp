@@ -204,19 +204,21 @@ TEST(IliacusDynamics, FlexionTo80InOneDegreeSteps) {
 // pieces were rejoined (or not) afresh every frame and the surface jumped by up to 19 mm
 // beyond the femur's move at 1° steps; with the guard's grid sliding with the motion, by
 // up to 3.3 mm (gluteus) and 1.8 mm (iliacus). Since the grid is fixed in M, what is left
-// beyond the femur's move plus 1 mm: at 1° steps the gluteus by up to 2.1 mm (61°, where
-// the stretched field is flat: |∇f| ≈ 0.13 at the jumping point, f moved by 0.13) and the
-// iliacus by up to 0.39 mm (47°); at 10° steps the gluteus by up to 4.3 mm (80°, where the
-// stretched belly thins: points 4–5 field units deep at 70° are on the surface at 80°).
-TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo2_1mm_Issue4Open) {
+// beyond the femur's move plus 1 mm (measured 2026-12-01, volume kept through the free
+// centres' weights): at 1° steps the gluteus by up to 2.0 mm (61°, where the stretched field
+// is flat: |∇f| ≈ 0.13 at the jumping point) and the iliacus by up to 3.3 mm (51°, a frame
+// in which the guard removed an island; 0.39 mm with the former global volume offset); at
+// 10° steps the gluteus by up to 4.6 mm (80°, where the stretched belly thins: points
+// 4–5 field units deep at 70° are on the surface at 80°).
+TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo2_0mm_Issue4Open) {
   runFlexion(gluteus(), gluteusAttachments(gluteus()), 1, 80, true);
 }
 
-TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtTenDegreeSteps_JumpsUpTo4_3mm_Issue4Open) {
+TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtTenDegreeSteps_JumpsUpTo4_6mm_Issue4Open) {
   runFlexion(gluteus(), gluteusAttachments(gluteus()), 10, 80, true);
 }
 
-TEST(IliacusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo0_4mm_Issue4Open) {
+TEST(IliacusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo3_3mm_Issue4Open) {
   runFlexion(iliacus(), iliacusAttachments(iliacus()), 1, 80, true);
 }
 
