@@ -139,20 +139,24 @@ void RBFMuscle::initialize(const InitContext& context) {
     for (const Eigen::Vector3d& p_G : parseLandmarks(property->get(), property->getName()))
       landmarks.push_back(AttachmentLandmark{bone, p_G - frame_offset_mm_, landmark_radius_mm.get()});
   attachByLandmarks(field, landmarks, attachments);
-  if (proximity_mm.get() > 0) {
-    std::vector<MeshDistance> bone_distance;
-    for (int body : bodies) bone_distance.emplace_back(loadBoneMesh_M(skeleton, body, frame_offset_mm_, "proximity_mm > 0"));
-    std::vector<const MeshDistance*> bones_M;
-    for (const MeshDistance& d : bone_distance) bones_M.push_back(&d);
-    attachByProximity(field, bones_M, proximity_mm.get(), 1.0, attachments);
-  }
   const std::string& support = supporting_bodies.get();
   if (support != "none" && support != "origin" && support != "insertion" && support != "both")
     throw FrameworkError("supporting_bodies: expected origin, insertion, both or none, got '" + support + "'");
+  // Each bone's rest surface in M, loaded once for proximity_mm and supporting_bodies.
+  std::shared_ptr<const MeshDistance> surfaces_M[2];
+  const auto boneSurface = [&](int bone, const char* needed_by) {
+    if (!surfaces_M[bone])
+      surfaces_M[bone] = std::make_shared<const MeshDistance>(loadBoneMesh_M(skeleton, bodies[bone], frame_offset_mm_, needed_by));
+    return surfaces_M[bone];
+  };
+  if (proximity_mm.get() > 0) {
+    const std::vector<const MeshDistance*> bones_M = {boneSurface(0, "proximity_mm > 0").get(),
+                                                      boneSurface(1, "proximity_mm > 0").get()};
+    attachByProximity(field, bones_M, proximity_mm.get(), 1.0, attachments);
+  }
   for (int bone = 0; bone < 2; ++bone)
     if (support == "both" || support == (bone == 0 ? "origin" : "insertion"))
-      addSupport(bone, std::make_shared<const MeshDistance>(loadBoneMesh_M(skeleton, bodies[bone], frame_offset_mm_, "supporting_bodies")),
-                 attachments);
+      addSupport(bone, boneSurface(bone, "supporting_bodies"), attachments);
   for (int bone = 0; bone < 2; ++bone)
     if (attachments.countAttachedTo(bone) == 0)
       throw FrameworkError(std::string("no centre attaches to the ") + (bone ? "insertion" : "origin") +
