@@ -273,6 +273,7 @@ void RBFMuscle::update(const FrameState& state) {
   result_.collision_ms = contact_resolver_ ? 0.0 : DeformResult::kNaN;
   result_.max_penetration_mm = result_.max_penetration_before_mm = result_.contacts = DeformResult::kNaN;
   result_.max_penetration_free_mm = DeformResult::kNaN;
+  result_.probes_off_surface = contact_resolver_ ? 0.0 : DeformResult::kNaN;
   result_.contact_iterations = 0;
   int steps = 1;
   if (contact_resolver_ && contact_response.get()) {  // sub-steps guard tunnelling of the response only
@@ -359,6 +360,7 @@ void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::
   result_.max_penetration_free_mm = maxOrNaN(result_.max_penetration_free_mm, report.max_penetration_free_mm);
   result_.contacts = maxOrNaN(result_.contacts, report.contacts);
   result_.contact_iterations += report.iterations;
+  result_.probes_off_surface += report.probes_off_surface;
   result_.collision_ms += msSince(start);
 }
 

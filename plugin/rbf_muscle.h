@@ -75,7 +75,9 @@
 ///   response, max over sub-steps), max_penetration_free_mm (the same over probes where the
 ///   surface is made mostly by free centres, i.e. not on attachment surface),
 ///   max_penetration_before_mm (the same before the response),
-///   contacts (probes found beyond their rest overlap, max over sub-steps), substeps,
+///   contacts (probes found beyond their rest overlap, max over sub-steps), probes_off_surface
+///   (measuring only: deepest probes that stayed off the surface after a second projection and
+///   were left out of the maxima, summed over sub-steps), substeps,
 ///   contact_iterations (response iterations, summed), collision_ms (probe carrying, queries and
 ///   response, all sub-steps; NaN without contact_probes).
 /// Frame geometry (--frames-mesh): NAME (surface) and NAME_fibres (fibre polylines, ground, mm).
@@ -194,6 +196,9 @@ class RBFMuscle final : public Component {
                                    [this] { return result_.max_penetration_before_mm; }};
   Output contacts{this, "contacts", "1", "probes inside a bone beyond their rest overlap (before the response)",
                   [this] { return result_.contacts; }};
+  Output probes_off_surface{this, "probes_off_surface", "1",
+                            "deepest probes left out of max_penetration_mm: off the surface after a second projection",
+                            [this] { return result_.probes_off_surface; }};
   Output substeps{this, "substeps", "1", "sub-steps of this frame (tunnelling guard)", [this] { return result_.substeps; }};
   Output contact_iterations{this, "contact_iterations", "1", "contact response iterations this frame",
                             [this] { return result_.contact_iterations; }};
@@ -239,6 +244,7 @@ class RBFMuscle final : public Component {
     double max_penetration_before_mm = kNaN;  ///< mm
     double max_penetration_free_mm = kNaN;    ///< mm
     double contacts = kNaN;
+    double probes_off_surface = kNaN;
     double substeps = kNaN;
     double contact_iterations = kNaN;
     double collision_ms = kNaN;

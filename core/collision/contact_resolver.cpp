@@ -18,8 +18,12 @@ namespace rbfmuscle {
 namespace {
 
 constexpr double kRestQueryRadiusMm = 1e6;
-constexpr double kLowerBoundReachMm = 10.0;
-constexpr double kGroupCellMm = 10.0;  ///< cell of the probe groups sharing a list of centres (projection)  ///< extra query radius so far probes get a useful lower bound
+constexpr double kLowerBoundReachMm = 10.0;  ///< extra query radius so far probes get a useful lower bound
+constexpr double kGroupCellMm = 10.0;  ///< cell of the probe groups sharing a list of centres (projection)
+/// A probe counts for the deepest penetration only where it is on the surface, |f|/‖∇f‖ ≤ this (mm).
+constexpr double kOnSurfaceMm = 0.05;
+/// Newton steps of the second projection of a deepest probe left off the surface.
+constexpr int kRescueSteps = 30;
 /// A moved centre k marks the probes within √(ln(1e3)/α_k) of it (where φ_k ≥ 1e-3) for re-projection.
 const double kInfluenceLogRatio = std::log(1e3);
 
@@ -426,6 +430,8 @@ double ContactResolver::measure(const GaussianField& field, bool measure_only) {
   free_penetration_mm_ = 0.0;
   bool have_worst = false;
   std::vector<int> one(1);
+  std::vector<bool> rescued(static_cast<size_t>(P), false);
+  double deepest = 0.0;  // the heap holds every probe with a positive bound: its first exact, on-surface one
   ActiveCentres active;
   while (!order.empty()) {
     std::pop_heap(order.begin(), order.end(), lower);
@@ -446,9 +452,34 @@ double ContactResolver::measure(const GaussianField& field, bool measure_only) {
       }
       continue;
     }
-    // Exact and at least every remaining upper bound: the deepest probe left.
+    // Exact and at least every remaining upper bound: the deepest probe left, if it is on the
+    // surface. One whose projection ran out of travel gets one longer projection and exact
+    // queries again; if that fails too it is left out (its depth is not the surface's).
+    Eigen::Vector3d gradient;
+    const double value = calcValueAndGradient(field, probes_M_.col(i), gradient);
+    if (!(std::abs(value) <= kOnSurfaceMm * gradient.norm())) {
+      if (!rescued[static_cast<size_t>(i)]) {
+        rescued[static_cast<size_t>(i)] = true;
+        Eigen::Vector3d p = probes_M_.col(i);
+        projectOntoSurface(field, p, kRescueSteps, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm);
+        probes_M_.col(i) = p;
+        ++report_.projections;
+        one[0] = i;
+        excess_mm_(i) = -kInf;
+        for (int b = 0; b < B; ++b)
+          if (std::isfinite(allowance_mm_(i, b))) queryBone(b, one);
+        upper_mm_(i) = excess_mm_(i);
+        if (upper_mm_(i) > 0.0) {
+          order.push_back(i);
+          std::push_heap(order.begin(), order.end(), lower);
+        }
+      } else {
+        ++report_.probes_off_surface;
+      }
+      continue;
+    }
     if (!have_worst) {
-      worst = std::max(worst, excess_mm_(i));
+      deepest = excess_mm_(i);
       have_worst = true;
     }
     if (calcFreeShare(field, probes_M_.col(i), active) >= 0.5) {
@@ -456,7 +487,7 @@ double ContactResolver::measure(const GaussianField& field, bool measure_only) {
       break;
     }
   }
-  return worst;
+  return deepest;
 }
 
 void ContactResolver::addSlack(const GaussianField& field, const std::vector<int>& centres,
