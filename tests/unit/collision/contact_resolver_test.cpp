@@ -5,6 +5,7 @@
 #include "collision/contact_resolver.h"
 
 #include <cmath>
+#include <utility>
 
 #include <gtest/gtest.h>
 
@@ -224,33 +225,32 @@ TEST(ContactResolver, MeasureOnlyCountsAndDepthsExactWhileCertainContactsAreNotQ
 TEST(ContactResolver, MeasureOnlyCountsNoDepthOfProbesTheSurfaceLeftBehind) {
   // The free sphere drops while the carried probes stay (as when a descent moves the surface
   // further than the projection's 3 mm of travel), and the box's face comes down to y = 5.
-  const Eigen::Matrix3Xd probes = makeProbes(300);
-  const auto dropBy = [](GaussianField& field, double drop_mm) {
+  // Returns the report and the final height of the sphere's highest rest probe.
+  const auto dropAndMeasure = [](double drop_mm) {
+    const Eigen::Matrix3Xd probes = makeProbes(300);
+    GaussianField field = makeTwoSpheres();
+    ContactResolver resolver = makeResolver(makeBox(50, 50), 62.0, field);
     Eigen::Matrix3Xd centres = field.getCentres();
     centres.col(0) = Eigen::Vector3d(0.0, -drop_mm, 0.0);
     field.setCentrePositions(centres);
+    const ContactReport report = resolver.measureOnly({translationY(50.0 + 5.0)}, probes, field);
+    int top = 0;
+    for (int i = 0; i < 300; ++i)
+      if (probes(1, i) > probes(1, top)) top = i;
+    return std::make_pair(report, resolver.getProbes()(1, top));
   };
-  int top = 0;  // the free sphere's highest probe
-  for (int i = 0; i < 300; ++i)
-    if (probes(1, i) > probes(1, top)) top = i;
 
   // 8 mm: from the old top (y = 10) three Newton steps reach y ≈ 7, inside the box, while the
   // surface (top at y = 2) is clear. The deepest probes are projected again, onto it.
-  GaussianField field = makeTwoSpheres();
-  ContactResolver resolver = makeResolver(makeBox(50, 50), 62.0, field);
-  dropBy(field, 8.0);
-  const ContactReport& dropped = resolver.measureOnly({translationY(50.0 + 5.0)}, probes, field);
+  const auto [dropped, top_y] = dropAndMeasure(8.0);
   EXPECT_EQ(dropped.max_penetration_mm, 0.0);
   EXPECT_EQ(dropped.max_penetration_free_mm, 0.0);
   EXPECT_EQ(dropped.probes_off_surface, 0);
-  EXPECT_NEAR(resolver.getProbes()(1, top), 2.0, 0.05) << "the top probe is back on the surface";
+  EXPECT_NEAR(top_y, 2.0, 0.05) << "the top probe is back on the surface";
 
   // 60 mm: beyond the centre's cut-off radius (43 mm) ∇f = 0 at the old probes, so no
   // projection moves them: they are contacts, counted off the surface, and give no depth.
-  GaussianField gone_field = makeTwoSpheres();
-  ContactResolver gone_resolver = makeResolver(makeBox(50, 50), 62.0, gone_field);
-  dropBy(gone_field, 60.0);
-  const ContactReport& gone = gone_resolver.measureOnly({translationY(50.0 + 5.0)}, probes, gone_field);
+  const ContactReport gone = dropAndMeasure(60.0).first;
   EXPECT_GT(gone.contacts, 0);
   EXPECT_GT(gone.probes_off_surface, 0);
   EXPECT_EQ(gone.max_penetration_mm, 0.0);
