@@ -39,33 +39,6 @@ std::vector<Eigen::Vector3d> parseLandmarks(const std::string& text, const std::
   return points;
 }
 
-/// A bone's collision meshes (visual ones if it has none) at rest, in M.
-/// @throws FrameworkError naming `needed_by` (the property) when the body has no mesh.
-TriangleMesh loadBoneMesh_M(const Skeleton& skeleton, int body, const Eigen::Vector3d& offset_mm,
-                            const std::string& needed_by) {
-  const std::vector<BodyMesh>& meshes = skeleton.getBodyMeshes(body);
-  bool any_collision = false;
-  for (const BodyMesh& m : meshes) any_collision |= m.collision;
-  TriangleMesh all;
-  const Eigen::Isometry3d X_GB = skeleton.getBodyTransform(body);
-  for (const BodyMesh& m : meshes) {
-    if (m.collision != any_collision) continue;
-    TriangleMesh part = loadMesh(m.path);
-    const Eigen::Isometry3d X_GM = X_GB * m.X_BM;
-    Eigen::Matrix3Xd v = X_GM * (m.scale_to_mm.asDiagonal() * part.vertices_mm);
-    v.colwise() -= offset_mm;
-    const Eigen::Index base = all.vertices_mm.cols();
-    all.vertices_mm.conservativeResize(3, base + v.cols());
-    all.vertices_mm.rightCols(v.cols()) = v;
-    all.triangles.conservativeResize(3, all.triangles.cols() + part.triangles.cols());
-    all.triangles.rightCols(part.triangles.cols()) = part.triangles.array() + static_cast<int>(base);
-  }
-  if (all.triangles.cols() == 0)
-    throw FrameworkError(needed_by + " needs a mesh on body '" + skeleton.getBodyNames()[body] +
-                         "' in " + skeleton.getUrdfPath());
-  return all;
-}
-
 /// A body's collision meshes (visual ones if it has none) in its body frame B (mm); empty
 /// when the body has no mesh.
 TriangleMesh loadBoneMesh_B(const Skeleton& skeleton, int body) {
@@ -84,6 +57,19 @@ TriangleMesh loadBoneMesh_B(const Skeleton& skeleton, int body) {
     all.triangles.rightCols(part.triangles.cols()) = part.triangles.array() + static_cast<int>(base);
   }
   return all;
+}
+
+/// The same meshes at rest in M (the ground frame shifted by `offset_mm`).
+/// @throws FrameworkError naming `needed_by` (the property) when the body has no mesh.
+TriangleMesh loadBoneMesh_M(const Skeleton& skeleton, int body, const Eigen::Vector3d& offset_mm,
+                            const std::string& needed_by) {
+  TriangleMesh mesh = loadBoneMesh_B(skeleton, body);
+  if (mesh.countTriangles() == 0)
+    throw FrameworkError(needed_by + " needs a mesh on body '" + skeleton.getBodyNames()[body] +
+                         "' in " + skeleton.getUrdfPath());
+  mesh.vertices_mm = skeleton.getBodyTransform(body) * mesh.vertices_mm;
+  mesh.vertices_mm.colwise() -= offset_mm;
+  return mesh;
 }
 
 /// Points as a 3×K matrix.
