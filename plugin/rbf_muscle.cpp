@@ -39,9 +39,9 @@ std::vector<Eigen::Vector3d> parseLandmarks(const std::string& text, const std::
   return points;
 }
 
-/// A body's collision meshes (visual ones if it has none) in its body frame B (mm); empty
-/// when the body has no mesh.
-TriangleMesh loadBoneMesh_B(const Skeleton& skeleton, int body) {
+/// A body's collision meshes (visual ones if it has none) in a frame F given by X_FB (mm);
+/// empty when the body has no mesh. Each part is moved by X_FB·X_BM in one product.
+TriangleMesh loadBoneMesh(const Skeleton& skeleton, int body, const Eigen::Isometry3d& X_FB) {
   const std::vector<BodyMesh>& meshes = skeleton.getBodyMeshes(body);
   bool any_collision = false;
   for (const BodyMesh& m : meshes) any_collision |= m.collision;
@@ -49,7 +49,7 @@ TriangleMesh loadBoneMesh_B(const Skeleton& skeleton, int body) {
   for (const BodyMesh& m : meshes) {
     if (m.collision != any_collision) continue;
     TriangleMesh part = loadMesh(m.path);
-    const Eigen::Matrix3Xd v = m.X_BM * (m.scale_to_mm.asDiagonal() * part.vertices_mm);
+    const Eigen::Matrix3Xd v = (X_FB * m.X_BM) * (m.scale_to_mm.asDiagonal() * part.vertices_mm);
     const Eigen::Index base = all.vertices_mm.cols();
     all.vertices_mm.conservativeResize(3, base + v.cols());
     all.vertices_mm.rightCols(v.cols()) = v;
@@ -59,15 +59,19 @@ TriangleMesh loadBoneMesh_B(const Skeleton& skeleton, int body) {
   return all;
 }
 
-/// The same meshes at rest in M (the ground frame shifted by `offset_mm`).
+/// The meshes in the body frame B.
+TriangleMesh loadBoneMesh_B(const Skeleton& skeleton, int body) {
+  return loadBoneMesh(skeleton, body, Eigen::Isometry3d::Identity());
+}
+
+/// The meshes at rest in M (the ground frame shifted by `offset_mm`).
 /// @throws FrameworkError naming `needed_by` (the property) when the body has no mesh.
 TriangleMesh loadBoneMesh_M(const Skeleton& skeleton, int body, const Eigen::Vector3d& offset_mm,
                             const std::string& needed_by) {
-  TriangleMesh mesh = loadBoneMesh_B(skeleton, body);
+  TriangleMesh mesh = loadBoneMesh(skeleton, body, skeleton.getBodyTransform(body));
   if (mesh.countTriangles() == 0)
     throw FrameworkError(needed_by + " needs a mesh on body '" + skeleton.getBodyNames()[body] +
                          "' in " + skeleton.getUrdfPath());
-  mesh.vertices_mm = skeleton.getBodyTransform(body) * mesh.vertices_mm;
   mesh.vertices_mm.colwise() -= offset_mm;
   return mesh;
 }
