@@ -17,6 +17,7 @@
 #include "fit/surface_cache.h"
 #include "geometry/mesh_distance.h"
 #include "geometry/mesh_io.h"
+#include "geometry/mesh_region.h"
 #include "model/skeleton.h"
 
 namespace rbfmuscle {
@@ -144,9 +145,24 @@ void RBFMuscle::initialize(const InitContext& context) {
                                                       boneSurface(1, "proximity_mm > 0").get()};
     attachByProximity(field, bones_M, proximity_mm.get(), 1.0, attachments);
   }
-  for (int bone = 0; bone < 2; ++bone)
-    if (support == "both" || support == (bone == 0 ? "origin" : "insertion"))
-      addSupport(bone, boneSurface(bone, "supporting_bodies"), attachments);
+  for (int bone = 0; bone < 2; ++bone) {
+    if (support != "both" && support != (bone == 0 ? "origin" : "insertion")) continue;
+    std::shared_ptr<const MeshDistance> surface = boneSurface(bone, "supporting_bodies");
+    if (support_radius_mm.get() > 0) {
+      std::vector<Eigen::Vector3d> own;
+      for (const AttachmentLandmark& l : landmarks)
+        if (l.bone == bone) own.push_back(l.p_M_mm);
+      TriangleMesh near = keepTrianglesNear(surface->getMesh(), findAttachmentRegion(own, field, attachments, bone),
+                                            support_radius_mm.get());
+      if (near.countTriangles() == 0)
+        throw FrameworkError("support_radius_mm = " + (std::ostringstream() << support_radius_mm.get()).str() +
+                             " mm: no triangle of body '" +
+                             skeleton.getBodyNames()[static_cast<size_t>(bodies[bone])] + "' lies within it of the " +
+                             (bone ? "insertion" : "origin") + " (its landmarks, else its attached centres)");
+      surface = std::make_shared<const MeshDistance>(std::move(near));
+    }
+    addSupport(bone, std::move(surface), attachments);
+  }
   for (int bone = 0; bone < 2; ++bone)
     if (attachments.countAttachedTo(bone) == 0)
       throw FrameworkError(std::string("no centre attaches to the ") + (bone ? "insertion" : "origin") +

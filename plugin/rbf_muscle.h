@@ -20,11 +20,13 @@
 ///   supporting_bodies (string, "none")   "origin", "insertion", "both" or "none": the rest
 ///                                         surface of these bodies counts as attachment in the
 ///                                         blend weights of the prediction (attachment.h), so muscle
-///                                         lying on the bone follows it. Iliacus at 80° flexion with
-///                                         "both" and no response: 9.3 mm into the bones, against 15 mm
-///                                         without (with the response: within 0.5 mm every frame), but
-///                                         its insertion fibre ends fall up to 0.2 field units outside
-///                                         from 76°, so the scenes leave it off
+///                                         lying on the bone follows it
+///   support_radius_mm (double, 0)         only the part of a supporting body's surface within
+///                                         this distance of its attachment (landmarks, else attached
+///                                         centres) counts (0: all of it). The hip scenes: the iliacus
+///                                         with "origin" and 80 mm, the pelvis of the iliac fossa, so
+///                                         the proxy beside the insertion does not hold the insertion
+///                                         back (models/hip/README.md, Contacts)
 ///   quadrature_points (int, 4000)         points carrying the rest curvature κ₀
 ///   max_iterations (int, 50)              descent iteration cap per frame
 ///   cost_tolerance (double, 1e-5)         descent stops when the relative decrease is below
@@ -48,9 +50,10 @@
 ///                                         (0: no contact handling at all); bones = every
 ///                                         skeleton body with a mesh (collision meshes, else visual)
 ///   contact_response (bool, false)        push free centres out of the bones, with sub-steps
-///                                         against tunnelling (false: measure only). Off by
-///                                         default: on the iliacus its pushes make fibre lengths
-///                                         step by up to 3 % between 1° frames (issue 5)
+///                                         against tunnelling (false: measure only); on in the hip
+///                                         scenes. Its pushes need attachments that hold the muscle
+///                                         near its bones: the iliacus without the support above
+///                                         steps its fibre lengths by up to 2.2 % between 1° frames
 ///   contact_tolerance_mm (double, 0.5)    accepted penetration beyond the rest overlap
 ///   contact_max_iterations (int, 10)      cap on response iterations per (sub-)step
 ///   max_substeps (int, 8)                 cap on sub-steps per frame of the tunnelling guard
@@ -118,6 +121,10 @@ class RBFMuscle final : public Component {
   Property<std::string> supporting_bodies{this, "supporting_bodies", "none",
                                           "bodies whose rest surface counts as attachment in the blend: "
                                           "origin, insertion, both or none"};
+  Property<double> support_radius_mm{this, "support_radius_mm", 0.0,
+                                     "a supporting body's surface counts within this distance of its landmarks "
+                                     "(mm, 0 = all of it)",
+                                     PropertyRange{0.0, 10000.0}};
   Property<int> quadrature_points{this, "quadrature_points", 4000, "quadrature points of the curvature cost",
                                   PropertyRange{8, 1000000}};
   Property<int> max_iterations{this, "max_iterations", 50, "descent iteration cap per frame", PropertyRange{1, 100000}};

@@ -124,6 +124,17 @@ TEST(RBFMusclePlugin, UnknownSupportingBodiesNameTheValue) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+TEST(RBFMusclePlugin, SupportRadiusLeavingNoBoneSurfaceNamesTheProperty) {
+  const fs::path dir = testDir("tiny_support");
+  const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
+                                         "' --quiet --set glmax_r.supporting_bodies=origin --set glmax_r.support_radius_mm=0.01",
+                                     "plugin", "tiny_support");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("support_radius_mm = 0.01"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("no triangle of body 'pelvis'"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 TEST(RBFMusclePlugin, LandmarksAwayFromTheMuscleAreRefused) {
   const fs::path dir = testDir("far_landmarks");
   const HostResult r = runModel(writeModel(dir, kCachedGluteus, "0 0 0"), dir / "out", "far_landmarks");
