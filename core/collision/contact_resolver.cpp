@@ -203,13 +203,15 @@ const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& 
   std::fill(moved_.begin(), moved_.end(), false);
   report_ = ContactReport{};
 
-  double penetration = measure(field, !respond);
+  // Measured first as when measuring only (the same contacts and depths with the least work);
+  // most frames need no push, and only a response needs the query band's near probes.
+  double penetration = measure(field, true);
   report_.contacts = static_cast<int>((excess_mm_.array() > 0.0).count());
   report_.max_penetration_before_mm = penetration;
-  if (!respond) {
-    report_.stop = ContactStop::kMeasureOnly;
-  } else {
-    report_.stop = ContactStop::kWithinTolerance;
+  const bool push = respond && penetration > settings_.tolerance_mm;
+  report_.stop = respond ? ContactStop::kWithinTolerance : ContactStop::kMeasureOnly;
+  if (push) {
+    penetration = measure(field);
     // Trust region on the centre moves: doubled after a step that lowered the worst excess,
     // halved after one that did not, within [max_centre_step_mm / 8, 4 max_centre_step_mm].
     double step_limit = settings_.max_centre_step_mm;
@@ -249,7 +251,7 @@ const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& 
     }
   }
   report_.max_penetration_mm = penetration;
-  report_.max_penetration_free_mm = respond ? calcFreeSurfacePenetration(field) : free_penetration_mm_;
+  report_.max_penetration_free_mm = push ? calcFreeSurfacePenetration(field) : free_penetration_mm_;
   report_.moved_centres = static_cast<int>(std::count(moved_.begin(), moved_.end(), true));
   report_.ms = msSince(start);
   return report_;

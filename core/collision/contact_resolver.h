@@ -147,7 +147,10 @@ struct ContactReport {
 /// and 440; where the time goes is in models/hip/README.md ("Contacts").
 ///
 /// **Response** (respond = true): a smooth push of the muscle out of the bones, moving free
-/// centres only. While some e_i = max_b e_ib > tolerance, each iteration:
+/// centres only. Each call first measures as when measuring only; only if that finds a probe
+/// beyond the tolerance does it measure again with the query band (the near probes the
+/// inequalities need) and push (most frames need no push: iliacus, 1° frames, 0 iterations
+/// median). While some e_i = max_b e_ib > tolerance, each iteration:
 ///  1. rows: the probes with e_i > 0 (deepest first, one per cluster of radius L/2), n_i the
 ///     outward normal of the probe's deepest bone; L = block_fraction × the median rest
 ///     thickness of those probes, so a push moves the muscle's cross-section as a block
