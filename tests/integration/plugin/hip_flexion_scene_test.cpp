@@ -2,7 +2,9 @@
 /// flexion in 1° frames), run through the host exactly as the README does: every frame
 /// finite, volume kept, and the fibres of issue 6: lengths continuous (no fibre changes
 /// length by more than 1 % between 1° frames), every point inside, ends within 0.5 mm of
-/// their bone's motion (fibres_test.cpp checks the same at 10° frames).
+/// their bone's motion (fibres_test.cpp checks the same at 10° frames); and issue 5: with the
+/// contact response every probe of either muscle within 0.5 mm of the bones (beyond the rest
+/// overlap) at every frame, where the deformer alone presses the iliacus deeper.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -21,7 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-TEST(HipFlexionScene, FibresContinuousInsideAndOnTheirBonesAndVolumeKeptEveryFrame) {
+TEST(HipFlexionScene, FibresContinuousInsideAndOnTheirBonesVolumeKeptAndOutOfTheBonesEveryFrame) {
   const std::string tag = "hip_flexion_scene_" + std::to_string(::getpid());
   const fs::path out = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin" / tag;
   fs::remove_all(out);
@@ -39,6 +41,9 @@ TEST(HipFlexionScene, FibresContinuousInsideAndOnTheirBonesAndVolumeKeptEveryFra
   for (const std::string muscle : {"glmax_r", "iliacus_r"}) {
     const int volume = column(muscle + ".volume_ratio"), outside = column(muscle + ".fiber_points_outside");
     const int end_offset = column(muscle + ".fiber_end_offset_max_mm");
+    const int penetration = column(muscle + ".max_penetration_mm");
+    const int before = column(muscle + ".max_penetration_before_mm");
+    double worst_before = 0.0, worst_penetration = 0.0;
     int outside_total = 0, outside_frames = 0;
     std::vector<int> fibre(100);
     for (int i = 0; i < 100; ++i) {
@@ -56,6 +61,9 @@ TEST(HipFlexionScene, FibresContinuousInsideAndOnTheirBonesAndVolumeKeptEveryFra
       // Issue 6: end points within 0.5 mm of their attachment's motion.
       EXPECT_LE(r[static_cast<size_t>(end_offset)], 0.5) << muscle << " frame " << row;
       max_end_offset = std::max(max_end_offset, r[static_cast<size_t>(end_offset)]);
+      EXPECT_LE(r[static_cast<size_t>(penetration)], 0.5) << muscle << " in a bone at frame " << row;
+      worst_before = std::max(worst_before, r[static_cast<size_t>(before)]);
+      worst_penetration = std::max(worst_penetration, r[static_cast<size_t>(penetration)]);
       for (int i = 0; i < 100; ++i) {
         const size_t c = static_cast<size_t>(fibre[static_cast<size_t>(i)]);
         const double length = r[c];
@@ -70,9 +78,13 @@ TEST(HipFlexionScene, FibresContinuousInsideAndOnTheirBonesAndVolumeKeptEveryFra
       }
     }
     std::printf("%s: largest fibre length step %.3f %% (fibre %d, %d°); fibre points outside %d in %d frames; "
-                "largest end move off its bone %.3f mm\n",
-                muscle.c_str(), 100.0 * worst_step, worst_fibre, worst_frame, outside_total, outside_frames, max_end_offset);
+                "largest end move off its bone %.3f mm; deepest in a bone %.3f mm (before the response %.3f mm)\n",
+                muscle.c_str(), 100.0 * worst_step, worst_fibre, worst_frame, outside_total, outside_frames, max_end_offset,
+                worst_penetration, worst_before);
     EXPECT_LE(worst_step, 0.01) << muscle << " fibre " << worst_fibre << " at " << worst_frame << "°";
+    if (muscle == "iliacus_r") {
+      EXPECT_GT(worst_before, 0.5) << "the response had nothing to do";
+    }
   }
   fs::remove_all(out);
 }
