@@ -106,11 +106,13 @@ ContactResolver::ContactResolver(std::vector<ContactBone> bones, const GaussianF
     X_MB_prev_.push_back(bone.X_MB_rest);
   }
   probes_M_ = rest_probes_M;
+  normal_M_ = Eigen::Matrix3Xd::Zero(3, P);
   thickness_mm_.resize(P);
   for (int i = 0; i < P; ++i) {
-    Eigen::Vector3d p = probes_M_.col(i);
-    projectOntoSurface(rest_field, p, 20, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm);
+    Eigen::Vector3d p = probes_M_.col(i), g;
+    projectOntoSurface(rest_field, p, 20, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm, &g);
     probes_M_.col(i) = p;
+    setNormal(i, g);
     thickness_mm_(i) = calcLocalThickness(rest_field, p, settings_.thickness_step_mm, settings_.thickness_max_mm);
   }
   free_share_.resize(P);
@@ -153,10 +155,14 @@ int ContactResolver::calcSubsteps(const std::vector<Eigen::Isometry3d>& X_MB, co
     for (int i = 0; i < countProbes(); ++i) {
       const Eigen::Vector3d p_prev_B = X_BM_prev * probes_M_.col(i);
       const Eigen::Vector3d x = calcStartPoint(i, carried_M);
-      const double delta = (X_BM_now * x - p_prev_B).norm();
+      const Eigen::Vector3d move_B = X_BM_now * x - p_prev_B;
       const double bound_prev = ref_distance_mm_(i, b) - (p_prev_B - ref.col(i)).norm();
-      if (bound_prev + allowance_mm_(i, b) < delta)
-        needed = std::max(needed, delta / (settings_.safe_fraction *
+      if (!(bound_prev + allowance_mm_(i, b) < move_B.norm())) continue;
+      // Only the move through the muscle, along its normal, can carry a bone point across its
+      // thickness; sliding along the surface cannot (class comment, Tunnelling guard).
+      const Eigen::Vector3d n_M = normal_M_.col(i);
+      const double through = n_M.isZero() ? move_B.norm() : std::abs(move_B.dot(X_BM_now.linear() * n_M));
+      needed = std::max(needed, through / (settings_.safe_fraction *
                                            std::min(thickness_mm_(i), bones_[static_cast<size_t>(b)].thickness_mm)));
     }
   }
@@ -282,6 +288,12 @@ double ContactResolver::calcFreeShare(const GaussianField& field, const Eigen::V
   return all > 0.0 ? free / all : 0.0;
 }
 
+void ContactResolver::setNormal(int i, const Eigen::Vector3d& gradient) {
+  const double g = gradient.norm();
+  // A vanishing gradient gives no direction: zero, and calcSubsteps then counts the whole move.
+  normal_M_.col(i) = g > 0.0 ? Eigen::Vector3d(gradient / g) : Eigen::Vector3d::Zero();
+}
+
 Eigen::Vector3d ContactResolver::calcStartPoint(int i, const Eigen::Matrix3Xd& carried_M) const {
   return probes_M_.col(i) + (carried_M.col(i) - carried_prev_M_.col(i));
 }
@@ -326,10 +338,11 @@ double ContactResolver::measure(const GaussianField& field, bool measure_only) {
       unsure_mm_(i) = reach;
   }
   const auto projectProbe = [&](int i) {
-    Eigen::Vector3d p = probes_M_.col(i);
+    Eigen::Vector3d p = probes_M_.col(i), g;
     const int steps = settings_.newton_steps + static_cast<int>(std::ceil(slack_mm_(i) / settings_.newton_step_cap_mm));
-    projectOntoSurface(field, p, steps, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm);
+    projectOntoSurface(field, p, steps, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm, &g);
     probes_M_.col(i) = p;
+    setNormal(i, g);
     slack_mm_(i) = 0.0;
     unsure_mm_(i) = 0.0;
   };
@@ -367,10 +380,11 @@ double ContactResolver::measure(const GaussianField& field, bool measure_only) {
     evaluate.collect(field, cutoff_radius_mm_, c, radius);
     for (size_t k = first; k < last; ++k) {
       const int i = groups_[k].second;
-      Eigen::Vector3d p = probes_M_.col(i);
+      Eigen::Vector3d p = probes_M_.col(i), g;
       const int steps = settings_.newton_steps + static_cast<int>(std::ceil(slack_mm_(i) / settings_.newton_step_cap_mm));
-      projectOntoSurfaceWith(evaluate, p, steps, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm);
+      projectOntoSurfaceWith(evaluate, p, steps, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm, &g);
       probes_M_.col(i) = p;
+      setNormal(i, g);
       slack_mm_(i) = 0.0;
     }
   }
@@ -462,9 +476,10 @@ double ContactResolver::measure(const GaussianField& field, bool measure_only) {
     if (!(std::abs(value) <= kOnSurfaceMm * gradient.norm())) {
       if (!rescued[static_cast<size_t>(i)]) {
         rescued[static_cast<size_t>(i)] = true;
-        Eigen::Vector3d p = probes_M_.col(i);
-        projectOntoSurface(field, p, kRescueSteps, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm);
+        Eigen::Vector3d p = probes_M_.col(i), g;
+        projectOntoSurface(field, p, kRescueSteps, settings_.newton_step_cap_mm, settings_.projection_tolerance_mm, &g);
         probes_M_.col(i) = p;
+        setNormal(i, g);
         ++report_.projections;
         one[0] = i;
         excess_mm_(i) = -kInf;

@@ -83,10 +83,10 @@ double calcValueAndGradient(const GaussianField& field, const Eigen::Vector3d& x
 }
 
 bool projectOntoSurface(const GaussianField& field, Eigen::Vector3d& x_mm, int max_steps, double step_cap_mm,
-                        double tolerance_mm) {
+                        double tolerance_mm, Eigen::Vector3d* gradient) {
   return projectOntoSurfaceWith(
       [&](const Eigen::Vector3d& x, Eigen::Vector3d& g) { return calcValueAndGradient(field, x, g); }, x_mm, max_steps,
-      step_cap_mm, tolerance_mm);
+      step_cap_mm, tolerance_mm, gradient);
 }
 
 void LocalFieldEvaluator::collect(const GaussianField& field, const Eigen::VectorXd& cutoff_radius_mm,

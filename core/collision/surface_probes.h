@@ -28,18 +28,20 @@ double calcValueAndGradient(const GaussianField& field, const Eigen::Vector3d& x
 /// x ← x − f(x) ∇f(x)/‖∇f(x)‖², each step shortened to at most `step_cap_mm`, at most
 /// `max_steps` steps, stopping once |f|/‖∇f‖ ≤ `tolerance_mm` (first-order distance to the
 /// surface). The total move is therefore ≤ max_steps · step_cap_mm.
+/// `gradient`, when given, gets ∇f at the returned point (the last evaluation).
 /// @return true when the tolerance was reached (false: step cap or a vanishing gradient).
 bool projectOntoSurface(const GaussianField& field, Eigen::Vector3d& x_mm, int max_steps, double step_cap_mm,
-                        double tolerance_mm);
+                        double tolerance_mm, Eigen::Vector3d* gradient = nullptr);
 
 /// projectOntoSurface with f(x) and ∇f(x) from `evaluate(x, gradient) → f` (same steps, same
 /// stops; the same result when `evaluate` gives calcValueAndGradient's numbers).
 template <class Evaluate>
 bool projectOntoSurfaceWith(Evaluate&& evaluate, Eigen::Vector3d& x_mm, int max_steps, double step_cap_mm,
-                            double tolerance_mm) {
+                            double tolerance_mm, Eigen::Vector3d* gradient = nullptr) {
   for (int step = 0; step <= max_steps; ++step) {
     Eigen::Vector3d g;
     const double f = evaluate(x_mm, g);
+    if (gradient) *gradient = g;
     const double g2 = g.squaredNorm();
     if (!(g2 > 1e-24)) return false;
     const double distance = std::abs(f) / std::sqrt(g2);
