@@ -60,8 +60,9 @@
 ///   Contacts (core/collision/contact_resolver.h): each probe may stay as deep inside a bone as
 ///   it was at rest (documented rest overlap: the pelvis proxy overlaps the iliacus by up to
 ///   8 mm), only the excess counts and is resolved; a frame in which a bone point near the muscle
-///   moves more than half the local muscle thickness is split into sub-steps (bone poses
-///   interpolated along their screw motion, the deformer and the contacts run per sub-step;
+///   moves through it (along its normal) by more than half the local thickness is split into
+///   sub-steps (bone poses interpolated along their screw motion, the deformer and the contacts
+///   run per sub-step;
 ///   bone walls are taken as thicker than the muscle, ContactBone::thickness_mm = ∞).
 ///   Probes: contact_probes vertices of the rest surface (surface_cell_mm grid), carried by the
 ///   same dual-quaternion blend as the quadrature points and projected onto f = 0.
