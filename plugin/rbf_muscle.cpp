@@ -350,11 +350,8 @@ void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::
   predictPoints(rest_probes_M_, probe_weights_, dq, carried_probes_M_);
   const GaussianField& field = deformer_->getField();
   const ContactReport* measured = nullptr;
-  if (contact_response.get()) {  // the response moves centres of a copy, handed back to the deformer
-    contact_field_->setCentrePositions(field.getCentres());
-    contact_field_->setWeights(field.getWeights());
-    contact_field_->setOffset(field.getOffset());
-    measured = &contact_resolver_->resolve(X_MB, carried_probes_M_, *contact_field_, true);
+  if (contact_response.get()) {  // a push moves centres of a copy (made only then), handed back to the deformer
+    measured = &contact_resolver_->resolveFrom(X_MB, carried_probes_M_, field, *contact_field_);
     if (measured->moved_centres > 0) deformer_->applyKeptCorrection(contact_field_->getCentres());
   } else {  // measuring reads the deformer's field itself
     measured = &contact_resolver_->measureOnly(X_MB, carried_probes_M_, field);

@@ -174,6 +174,15 @@ const ContactReport& ContactResolver::resolve(const std::vector<Eigen::Isometry3
   return run(X_MB, carried_M, field, respond ? &field : nullptr);
 }
 
+const ContactReport& ContactResolver::resolveFrom(const std::vector<Eigen::Isometry3d>& X_MB,
+                                                  const Eigen::Matrix3Xd& carried_M, const GaussianField& field,
+                                                  GaussianField& work) {
+  if (work.getNumCentres() != field.getNumCentres())
+    throw CollisionError("ContactResolver::resolveFrom: work field of " + std::to_string(work.getNumCentres()) +
+                         " centres, the field has " + std::to_string(field.getNumCentres()));
+  return run(X_MB, carried_M, field, &work);
+}
+
 const ContactReport& ContactResolver::measureOnly(const std::vector<Eigen::Isometry3d>& X_MB,
                                                   const Eigen::Matrix3Xd& carried_M, const GaussianField& field) {
   return run(X_MB, carried_M, field, nullptr);
@@ -217,6 +226,12 @@ const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& 
   const bool push = respond && penetration > settings_.tolerance_mm;
   report_.stop = respond ? ContactStop::kWithinTolerance : ContactStop::kMeasureOnly;
   if (push) {
+    if (moved != &measured) {  // the push works on `moved`, made a copy of the measured field only now
+      moved->setCentrePositions(measured.getCentres());
+      moved->setWeights(measured.getWeights());
+      moved->setOffset(measured.getOffset());
+    }
+    const GaussianField& field = *moved;
     penetration = measure(field);
     // Trust region on the centre moves: doubled after a step that lowered the worst excess,
     // halved after one that did not, within [max_centre_step_mm / 8, 4 max_centre_step_mm].
@@ -257,7 +272,7 @@ const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& 
     }
   }
   report_.max_penetration_mm = penetration;
-  report_.max_penetration_free_mm = push ? calcFreeSurfacePenetration(field) : free_penetration_mm_;
+  report_.max_penetration_free_mm = push ? calcFreeSurfacePenetration(*moved) : free_penetration_mm_;
   report_.moved_centres = static_cast<int>(std::count(moved_.begin(), moved_.end(), true));
   report_.ms = msSince(start);
   return report_;

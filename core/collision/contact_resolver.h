@@ -219,6 +219,14 @@ class ContactResolver {
   const ContactReport& resolve(const std::vector<Eigen::Isometry3d>& X_MB, const Eigen::Matrix3Xd& carried_M,
                                GaussianField& field, bool respond);
 
+  /// resolve(X_MB, carried_M, ·, true) for a field it cannot change: measures `field` and, only
+  /// when a push is needed, copies it into `work` (the same centres and shapes; its centres,
+  /// weights and offset are overwritten) and pushes that. `work` holds the pushed field when
+  /// the report's moved_centres > 0; otherwise it is untouched (no copy in most frames).
+  /// @throws CollisionError as resolve, or when `work` has another number of centres.
+  const ContactReport& resolveFrom(const std::vector<Eigen::Isometry3d>& X_MB, const Eigen::Matrix3Xd& carried_M,
+                                   const GaussianField& field, GaussianField& work);
+
   /// resolve(X_MB, carried_M, field, false) for a field it cannot change: measures only
   /// (the same report, no copy of the field needed).
   const ContactReport& measureOnly(const std::vector<Eigen::Isometry3d>& X_MB, const Eigen::Matrix3Xd& carried_M,
@@ -246,7 +254,8 @@ class ContactResolver {
   const ContactSettings& getSettings() const { return settings_; }
 
  private:
-  /// resolve and measureOnly: measures `measured`; responds when `moved` (the same field) is given.
+  /// resolve, resolveFrom and measureOnly: measures `measured`; when `moved` is given and a push
+  /// is needed, makes `moved` a copy of `measured` (unless it is the same field) and pushes it.
   const ContactReport& run(const std::vector<Eigen::Isometry3d>& X_MB, const Eigen::Matrix3Xd& carried_M,
                            const GaussianField& measured, GaussianField* moved);
   /// max(0, largest excess over probes whose surface is made mostly by free centres) (mm).
@@ -284,9 +293,9 @@ class ContactResolver {
   Eigen::MatrixXd ref_upper_mm_;      ///< P×B upper bound of s at ref_point_B_ (+∞ when the query found no bone)
   std::vector<std::pair<int, int>> deferred_;  ///< (probe, bone) pairs certainly inside, not queried (measure only)
   Eigen::VectorXd unsure_mm_;         ///< per probe, travel of a projection not done this measurement (measure only)
-  Eigen::VectorXd upper_mm_;
+  Eigen::VectorXd upper_mm_;          ///< per probe, upper bound of its excess (measure only)
   Eigen::VectorXd cutoff_radius_mm_;  ///< per centre, radius beyond which φ < ε (projection groups)
-  std::vector<std::pair<std::array<long long, 3>, int>> groups_;  ///< (cell, probe) of the probes to project          ///< per probe, upper bound of its excess (measure only)
+  std::vector<std::pair<std::array<long long, 3>, int>> groups_;  ///< (cell, probe) of the probes to project
   double free_penetration_mm_ = 0.0;  ///< measure only: max_penetration_free_mm of the last measurement
   std::vector<Eigen::Matrix3Xd> ref_point_B_;  ///< per bone, 3×P probe in B at its last query
   Eigen::VectorXd thickness_mm_;

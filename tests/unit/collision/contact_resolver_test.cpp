@@ -99,6 +99,35 @@ TEST(ContactResolver, DeepPressIsResolvedInAFewIterations) {
   EXPECT_GE(top, kRadius - 4.0 - 1.0);
 }
 
+TEST(ContactResolver, ResolveFromCopiesOnlyToPushAndMatchesResolve) {
+  // The same frames resolved in place and from a const field into a work copy: identical
+  // reports and fields; the work field is left alone in the frames that need no push.
+  GaussianField in_place = makeTwoSpheres();
+  GaussianField from = makeTwoSpheres(), work = makeTwoSpheres();
+  const double half = 50.0;
+  ContactResolver a = makeResolver(makeBox(half, half), kRadius + 2.0 + half, in_place);
+  ContactResolver b = makeResolver(makeBox(half, half), kRadius + 2.0 + half, from);
+  const Eigen::Matrix3Xd carried = makeProbes(300);
+  work.setCentrePositions(Eigen::Matrix3Xd::Zero(3, work.getNumCentres()));  // marks "not copied"
+  int pushes = 0;
+  for (const double face_y : {20.0, 10.0, 9.0, 9.0}) {  // no contact, a press, a smaller one, none new
+    const std::vector<Eigen::Isometry3d> pose = {translationY(face_y + half)};
+    const ContactReport ra = a.resolve(pose, carried, in_place, true);
+    const ContactReport& rb = b.resolveFrom(pose, carried, from, work);
+    EXPECT_EQ(ra.max_penetration_mm, rb.max_penetration_mm) << face_y;
+    EXPECT_EQ(ra.iterations, rb.iterations) << face_y;
+    EXPECT_EQ(ra.contacts, rb.contacts) << face_y;
+    if (rb.moved_centres > 0) {
+      ++pushes;
+      EXPECT_TRUE(work.getCentres() == in_place.getCentres()) << face_y;
+      from.setCentrePositions(work.getCentres());  // as the plugin hands the push back to the deformer
+    } else if (pushes == 0) {
+      EXPECT_TRUE(work.getCentres().isZero()) << "copied without a push at " << face_y;
+    }
+  }
+  EXPECT_GE(pushes, 1);
+}
+
 TEST(ContactResolver, FreeShareSeparatesFreeAndAttachedSurface) {
   // Probes 0…299 lie on the free sphere, 300…599 on the attached one (makeProbes).
   GaussianField field = makeTwoSpheres();
