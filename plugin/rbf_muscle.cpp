@@ -282,7 +282,8 @@ void RBFMuscle::update(const FrameState& state) {
   result_.probes_off_surface = contact_resolver_ ? 0.0 : DeformResult::kNaN;
   result_.contact_iterations = 0;
   int steps = 1;
-  if (contact_resolver_ && contact_response.get()) {  // sub-steps guard tunnelling of the response only
+  const bool carried = contact_resolver_ && contact_response.get();  // the probes at the frame's motion, below
+  if (carried) {  // sub-steps guard tunnelling of the response only
     const auto t = std::chrono::steady_clock::now();
     std::vector<DualQuaternion> dq;
     for (const Eigen::Isometry3d& m : bone_motion_M_) dq.push_back(toDualQuaternion(m));
@@ -294,7 +295,7 @@ void RBFMuscle::update(const FrameState& state) {
   double descent_ms = 0.0, predict_ms = 0.0, volume_ms = 0.0, guard_ms = 0.0, islands = 0.0;
   for (int s = 1; s <= steps; ++s) {
     if (s == steps) {
-      step(bone_motion_M_, X_MB_);
+      step(bone_motion_M_, X_MB_, carried && steps == 1);
     } else {
       const double fraction = static_cast<double>(s) / steps;
       step_motion_M_.resize(bone_motion_M_.size());
@@ -341,13 +342,16 @@ void RBFMuscle::update(const FrameState& state) {
   result_.update_ms = msSince(start);
 }
 
-void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::vector<Eigen::Isometry3d>& X_MB) {
+void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::vector<Eigen::Isometry3d>& X_MB,
+                     bool probes_carried) {
   deformer_->update(motion_M);
   if (!contact_resolver_) return;
   const auto start = std::chrono::steady_clock::now();
-  std::vector<DualQuaternion> dq;
-  for (const Eigen::Isometry3d& m : motion_M) dq.push_back(toDualQuaternion(m));
-  predictPoints(rest_probes_M_, probe_weights_, dq, carried_probes_M_);
+  if (!probes_carried) {
+    std::vector<DualQuaternion> dq;
+    for (const Eigen::Isometry3d& m : motion_M) dq.push_back(toDualQuaternion(m));
+    predictPoints(rest_probes_M_, probe_weights_, dq, carried_probes_M_);
+  }
   const GaussianField& field = deformer_->getField();
   const ContactReport* measured = nullptr;
   if (contact_response.get()) {  // a push moves centres of a copy (made only then), handed back to the deformer

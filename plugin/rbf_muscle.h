@@ -262,8 +262,10 @@ class RBFMuscle final : public Component {
   /// Bones (every body with a mesh), rest probes on the rest surface, their blend weights and
   /// the resolver (contact_probes > 0).
   void initializeContacts(const Skeleton& skeleton);
-  /// One (sub-)step: the deformer at `motion_M`, then the contacts at `X_MB` (when enabled).
-  void step(const std::vector<Eigen::Isometry3d>& motion_M, const std::vector<Eigen::Isometry3d>& X_MB);
+  /// One (sub-)step: the deformer at `motion_M`, then the contacts at `X_MB` (when enabled);
+  /// `probes_carried`: carried_probes_M_ already holds the probes carried to `motion_M`.
+  void step(const std::vector<Eigen::Isometry3d>& motion_M, const std::vector<Eigen::Isometry3d>& X_MB,
+            bool probes_carried = false);
 
   /// Rest fibres and their tracker (fibres > 0), and the line-of-action path (if given).
   void initializeFibres(const Skeleton& skeleton, const GaussianField& field, const Attachments& attachments,
