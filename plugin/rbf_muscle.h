@@ -81,8 +81,8 @@
 ///   surface is made mostly by free centres, i.e. not on attachment surface),
 ///   max_penetration_before_mm (the same before the response),
 ///   contacts (probes found beyond their rest overlap, max over sub-steps), probes_off_surface
-///   (measuring only: deepest probes that stayed off the surface after a second projection and
-///   were left out of the maxima, summed over sub-steps), substeps,
+///   (at the first measurement of each sub-step: deepest probes that stayed off the surface after
+///   a second projection and were left out of the maxima, summed over sub-steps), substeps,
 ///   contact_iterations (response iterations, summed), collision_ms (probe carrying, queries and
 ///   response, all sub-steps; NaN without contact_probes).
 /// Frame geometry (--frames-mesh): NAME (surface) and NAME_fibres (fibre polylines, ground, mm).
@@ -279,7 +279,7 @@ class RBFMuscle final : public Component {
   std::vector<Eigen::Isometry3d> X_GB_rest_;                    ///< origin, insertion bone poses at rest
   std::vector<Eigen::Isometry3d> bone_motion_M_;                ///< per frame, reused
   std::unique_ptr<ContactResolver> contact_resolver_;  ///< null without contact_probes
-  std::unique_ptr<GaussianField> contact_field_;       ///< copy of the deformer's field the resolver moves
+  std::unique_ptr<GaussianField> contact_field_;       ///< the resolver's work field: a copy of the deformer's, made only to push
   std::vector<int> contact_bodies_;                    ///< skeleton body of each contact bone
   Eigen::Matrix3Xd rest_probes_M_;                     ///< probes at rest (M, mm)
   Eigen::MatrixXd probe_weights_;                      ///< blend weights of the rest probes (2×P)

@@ -80,7 +80,8 @@ struct ContactReport {
   /// max(0, max_i e_i) at the first measurement, before any response (mm).
   double max_penetration_before_mm = 0.0;
   /// max(0, max_i e_i) at the last measurement (mm); ≤ tolerance unless the stop says otherwise.
-  /// Measuring only, over the probes on the surface (probes_off_surface).
+  /// Without a push (measuring only, or nothing beyond the tolerance), over the probes on the
+  /// surface (probes_off_surface).
   double max_penetration_mm = 0.0;
   /// The same over the probes where the surface is now made mostly by free centres (≥ ½ of
   /// Σ|λ_k φ_k(p)|); the others lie on attachment surface, which the response cannot move (mm).
@@ -90,9 +91,10 @@ struct ContactReport {
   long long probe_queries = 0;  ///< exact (probe, bone) distance queries over all measurements
   long long projections = 0;    ///< probe projections onto f = 0 over all measurements
   int moved_centres = 0;        ///< distinct free centres moved
-  /// Measuring only: probes that were the deepest left but stayed off the surface after a
-  /// second, longer projection, and so were left out of the maxima (their depth is not the
-  /// surface's; class comment, Measuring only).
+  /// At the first measurement (made as when measuring only, also with the response on): probes
+  /// that were the deepest left but stayed off the surface after a second, longer projection,
+  /// and so were left out of the maxima (their depth is not the surface's; class comment,
+  /// Measuring only).
   int probes_off_surface = 0;
   double ms = std::numeric_limits<double>::quiet_NaN();  ///< wall time (ms)
 };
