@@ -29,9 +29,6 @@ namespace {
 using Bvh = fcl::BVHModel<fcl::OBBRSSd>;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-/// (p − q)·n_face ≥ (1 − kParallelTol)·‖p − q‖ means p − q is along the face normal,
-/// whose sign then decides inside/outside without a second tree descent.
-constexpr double kParallelTol = 1e-9;
 /// Below this ‖p − q‖ (mm) the probe is on the surface: the normal is the face normal.
 constexpr double kOnSurface_mm = 1e-9;
 /// Fewer probes than this run on one thread: below it (≈ 3 ms of work on the femur) waking
@@ -94,31 +91,33 @@ struct BoneSet::Impl {
     return bones[std::size_t(b)];
   }
 
-  /// Exact signed distance s (mm), closest point q_B and outward normal n_B of bone b.
-  static void queryExact(const Bone& b, const Eigen::Vector3d& p_B, double& s,
+  /// Exact signed distance s (mm), closest point q_B and outward normal n_B of bone b when
+  /// s ≤ r; s = +∞ (q_B, n_B unset) when p_B is outside and farther than r (mm).
+  static void queryExact(const Bone& b, const Eigen::Vector3d& p_B, double r, double& s,
                          Eigen::Vector3d& q_B, Eigen::Vector3d& n_B) {
-    const ClosestPoint c = b.distance->findClosestPoint(p_B);
-    const TriangleMesh& mesh = b.distance->getMesh();
-    Eigen::Vector3d n_face = (mesh.getCorner(c.triangle, 1) - mesh.getCorner(c.triangle, 0))
-                                 .cross(mesh.getCorner(c.triangle, 2) - mesh.getCorner(c.triangle, 0));
-    const double area2 = n_face.norm();
-    if (area2 > 0.0) n_face /= area2;
-    const Eigen::Vector3d v = p_B - c.point_mm;
+    // One tree descent, pruned at r, gives the closest point and the pseudo-normal sign; a point
+    // with no surface within r is outside unless it is in the bone's box, where it may be
+    // deeper inside than r: only then is the whole tree searched.
+    SignedClosestPoint c = b.distance->findSignedClosestPoint(p_B, r);
+    if (c.triangle < 0 && b.box_B.contains(p_B)) c = b.distance->findSignedClosestPoint(p_B);
     const double d = c.distance_mm;
-    q_B = c.point_mm;
-    if (d <= kOnSurface_mm) {
-      s = b.distance->calcSignedDistance(p_B);
-      n_B = n_face;
+    if (c.triangle < 0) {
+      s = kInf;
       return;
     }
-    const double along = v.dot(n_face);
-    double sign;
-    if (std::abs(along) >= (1.0 - kParallelTol) * d)
-      sign = along > 0.0 ? 1.0 : -1.0;  // q inside a face: the face normal decides.
-    else
-      sign = b.distance->isInside(p_B) ? -1.0 : 1.0;  // edge/vertex: pseudo-normal sign.
-    s = sign * d;
-    n_B = (sign / d) * v;
+    q_B = c.point_mm;
+    s = c.signed_distance_mm;
+    if (d <= kOnSurface_mm) {  // on the surface: p − q gives no direction, the face normal does
+      const TriangleMesh& mesh = b.distance->getMesh();
+      n_B = (mesh.getCorner(c.triangle, 1) - mesh.getCorner(c.triangle, 0))
+                .cross(mesh.getCorner(c.triangle, 2) - mesh.getCorner(c.triangle, 0));
+      const double area2 = n_B.norm();
+      if (area2 > 0.0) n_B /= area2;
+      return;
+    }
+    const double sign = s < 0.0 ? -1.0 : 1.0;
+    s = sign * d;  // a point exactly on a feature's tangent plane counts as outside
+    n_B = (sign / d) * (p_B - c.point_mm);
   }
 
   /// Stages 1 and 2 of the culling (see the class comment); fills `active`.
@@ -260,7 +259,7 @@ void BoneSet::queryProbes(const Eigen::Matrix3Xd& p_W, double query_radius_mm,
       ++exact;
       double s;
       Eigen::Vector3d q_B, n_B;
-      Impl::queryExact(bone, p_B, s, q_B, n_B);
+      Impl::queryExact(bone, p_B, r, s, q_B, n_B);
       if (s <= r && s < res.signed_distance_mm) {
         res.bone = b;
         res.signed_distance_mm = s;

@@ -94,8 +94,8 @@ int MeshDistance::buildNode(int begin, int end, std::vector<Eigen::Vector3d>& ce
   return id;
 }
 
-MeshDistance::Hit MeshDistance::findHit(const Eigen::Vector3d& p) const {
-  Hit best{Eigen::Vector3d::Zero(), std::numeric_limits<double>::infinity(), -1, 0};
+MeshDistance::Hit MeshDistance::findHit(const Eigen::Vector3d& p, double max_distance_sq) const {
+  Hit best{Eigen::Vector3d::Zero(), max_distance_sq, -1, 0};
   // Depth-first, nearer child first; each entry carries its box's squared distance.
   std::pair<int, double> stack[128];
   int top = 0;
@@ -186,6 +186,20 @@ double MeshDistance::signOf(const Eigen::Vector3d& p, const Hit& hit) const {
 ClosestPoint MeshDistance::findClosestPoint(const Eigen::Vector3d& p_mm) const {
   const Hit hit = findHit(p_mm);
   return ClosestPoint{hit.point, hit.triangle, std::sqrt(hit.distance_sq)};
+}
+
+SignedClosestPoint MeshDistance::findSignedClosestPoint(const Eigen::Vector3d& p_mm, double max_distance_mm) const {
+  const Hit hit = findHit(p_mm, max_distance_mm * max_distance_mm);
+  SignedClosestPoint c;
+  if (hit.triangle < 0) {
+    c.distance_mm = c.signed_distance_mm = std::numeric_limits<double>::infinity();
+    return c;
+  }
+  c.point_mm = hit.point;
+  c.triangle = hit.triangle;
+  c.distance_mm = std::sqrt(hit.distance_sq);
+  c.signed_distance_mm = signOf(p_mm, hit) * c.distance_mm;
+  return c;
 }
 
 double MeshDistance::calcUnsignedDistance(const Eigen::Vector3d& p_mm) const {

@@ -3,6 +3,7 @@
 /// Distance from points to a triangle mesh, unsigned and signed, through a bounding-volume
 /// tree built once.
 #include <array>
+#include <limits>
 #include <vector>
 
 #include "geometry/mesh_error.h"
@@ -15,6 +16,11 @@ struct ClosestPoint {
   Eigen::Vector3d point_mm = Eigen::Vector3d::Zero();  ///< closest point q on the mesh (mm).
   int triangle = -1;        ///< index of the triangle holding q.
   double distance_mm = 0;   ///< ‖p − q‖ (mm).
+};
+
+/// Result of a signed closest-point query.
+struct SignedClosestPoint : ClosestPoint {
+  double signed_distance_mm = 0;  ///< s(p) = ±‖p − q‖ (mm), negative inside.
 };
 
 /// Distance queries against one triangle mesh (mm). Built once in O(T log T): an
@@ -43,6 +49,12 @@ class MeshDistance {
 
   /// Closest point on the mesh to p_mm.
   ClosestPoint findClosestPoint(const Eigen::Vector3d& p_mm) const;
+  /// Closest point and s(p) from one descent of the tree (the sign from the pseudo-normal of
+  /// the feature holding the closest point, as calcSignedDistance), searched only within
+  /// `max_distance_mm` of p: triangle −1 (and distances +∞) when the mesh is farther, which
+  /// prunes most of the tree for far points.
+  SignedClosestPoint findSignedClosestPoint(const Eigen::Vector3d& p_mm,
+                                            double max_distance_mm = std::numeric_limits<double>::infinity()) const;
   /// ‖p − q‖ (mm), q the closest point.
   double calcUnsignedDistance(const Eigen::Vector3d& p_mm) const;
   /// s(p) (mm): negative inside, positive outside, 0 on the surface.
@@ -74,7 +86,8 @@ class MeshDistance {
   };
 
   int buildNode(int begin, int end, std::vector<Eigen::Vector3d>& centroids);
-  Hit findHit(const Eigen::Vector3d& p) const;
+  /// Closest feature within sqrt(max_distance_sq) of p (triangle −1 when none).
+  Hit findHit(const Eigen::Vector3d& p, double max_distance_sq = std::numeric_limits<double>::infinity()) const;
   double signOf(const Eigen::Vector3d& p, const Hit& hit) const;
 
   TriangleMesh mesh_;

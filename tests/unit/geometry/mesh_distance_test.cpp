@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "geometry/mesh_io.h"
@@ -81,6 +82,31 @@ TEST_F(BoxDistance, SignCorrectOnRandomPointsAndBatchEqualsSingle) {
     EXPECT_EQ(inside[i], s[i] < 0);
   }
   EXPECT_EQ(wrong, 0);
+}
+
+TEST_F(BoxDistance, SignedClosestPointWithinAMaximumDistanceOrNone) {
+  const Eigen::Matrix3Xd p =
+      randomPoints(2000, Eigen::AlignedBox3d(Eigen::Vector3d(-80, -40, -80), Eigen::Vector3d(80, 140, 80)), 11);
+  const double max_mm = 12.0;
+  int found = 0, none = 0;
+  for (int i = 0; i < p.cols(); ++i) {
+    const double exact = distance_->calcSignedDistance(p.col(i));
+    const SignedClosestPoint all = distance_->findSignedClosestPoint(p.col(i));
+    EXPECT_EQ(all.signed_distance_mm, exact);  // the same descent and sign as calcSignedDistance
+    EXPECT_EQ(all.point_mm, distance_->findClosestPoint(p.col(i)).point_mm);
+    const SignedClosestPoint near = distance_->findSignedClosestPoint(p.col(i), max_mm);
+    if (std::abs(exact) < max_mm) {
+      ++found;
+      EXPECT_EQ(near.signed_distance_mm, exact) << p.col(i).transpose();
+      EXPECT_EQ(near.triangle, all.triangle);
+    } else {
+      ++none;
+      EXPECT_EQ(near.triangle, -1) << p.col(i).transpose();
+      EXPECT_EQ(near.distance_mm, std::numeric_limits<double>::infinity());
+    }
+  }
+  EXPECT_GT(found, 100);  // both cases are exercised
+  EXPECT_GT(none, 100);
 }
 
 TEST(MeshDistance, SphereWithinTessellationError) {
