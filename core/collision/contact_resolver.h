@@ -126,13 +126,18 @@ struct ContactReport {
 /// reference s_ref and probe position p_ref (bone frame) of its last exact query; as s is
 /// 1-Lipschitz, s_ib ≥ s_ref − ‖X_BM x − p_ref‖ − (projection travel), and the pair is
 /// queried only when that bound is below −a_ib + query_band_mm. A probe with no pair to
-/// query is not projected either. Queries use the radius query_band_mm + travel + 10 mm;
+/// query is not projected either. A pair whose reference cleared that threshold by the
+/// projection's reach, and whose bound falls below it only because the probe has moved in the
+/// bone frame since, is first queried again where the probe starts (the reference has aged;
+/// refreshed, most such probes need no projection: iliacus, main job, about 400 instead of 1000
+/// projections per frame). Queries use the radius query_band_mm + travel + 10 mm;
 /// a probe with no bone within it records the radius as its (valid) lower bound. A response
 /// adds its longest centre move to the slack σ_i of every probe within reach (φ ≥ 1e-3) of a
 /// moved centre: the bound also subtracts σ_i, and the next projection of that probe gets
 /// ⌈σ_i / newton_step_cap_mm⌉ more Newton steps (so probes follow a surface the response moved).
 /// The probes to project are grouped by 10 mm cells; each group collects once the centres
-/// that can be active within its probes' travel (LocalFieldEvaluator, the field's own numbers).
+/// that can be active within its probes' travel (LocalFieldEvaluator, the field's own numbers),
+/// from the list of its 40 mm block.
 ///
 /// **Measuring only** (respond = false, or measureOnly) reports the same contacts and depths
 /// with less work: no query band (a pair with bound ≥ −a_ib cannot count); a pair certainly
@@ -274,6 +279,12 @@ class ContactResolver {
   /// `measure_only`: no query band, and pairs certainly inside are not queried unless they may
   /// hold the deepest probe (the contact count and the depths reported are the same).
   double measure(const GaussianField& field, bool measure_only = false);
+  /// Projects the probes of project_index_ onto f = 0 of `field` (their normals too; slack cleared).
+  void projectListed(const GaussianField& field);
+  /// Exact signed distances of the listed probes, where they are now, to bone b (posed by X_BM,
+  /// M in B), within radius_mm: they become the probes' references (ref_*); query_out_ holds
+  /// the answers in list order.
+  void queryReferences(int b, const std::vector<int>& probes, double radius_mm, const Eigen::Isometry3d& X_BM);
   /// One minimum-norm response step; @return false when no free centre acts on the rows.
   bool respondOnce(GaussianField& field, double step_limit_mm);
   /// Adds `longest_mm` (the longest centre move) to the slack of the probes within the
@@ -297,7 +308,8 @@ class ContactResolver {
   Eigen::VectorXd unsure_mm_;         ///< per probe, travel of a projection not done this measurement (measure only)
   Eigen::VectorXd upper_mm_;          ///< per probe, upper bound of its excess (measure only)
   Eigen::VectorXd cutoff_radius_mm_;  ///< per centre, radius beyond which φ < ε (projection groups)
-  std::vector<std::pair<std::array<long long, 3>, int>> groups_;  ///< (cell, probe) of the probes to project
+  using GroupKey = std::array<long long, 6>;  ///< block and cell of a probe to project
+  std::vector<std::pair<GroupKey, int>> groups_;  ///< (key, probe) of the probes to project
   double free_penetration_mm_ = 0.0;  ///< measure only: max_penetration_free_mm of the last measurement
   std::vector<Eigen::Matrix3Xd> ref_point_B_;  ///< per bone, 3×P probe in B at its last query
   Eigen::VectorXd thickness_mm_;

@@ -62,9 +62,12 @@ bool projectOntoSurfaceWith(Evaluate&& evaluate, Eigen::Vector3d& x_mm, int max_
 class LocalFieldEvaluator {
  public:
   /// Collects the centres k with ‖c − ξ_k‖ ≤ r_k + radius_mm (r_k the cut-off radius), i.e.
-  /// every centre that can be active within radius_mm of c.
+  /// every centre that can be active within radius_mm of c; from `among` (ascending indices,
+  /// e.g. another evaluator's candidates for a ball holding this one) when given, else from all.
   void collect(const GaussianField& field, const Eigen::VectorXd& cutoff_radius_mm, const Eigen::Vector3d& c_mm,
-               double radius_mm);
+               double radius_mm, const std::vector<int>* among = nullptr);
+  /// The collected centres (ascending indices).
+  const std::vector<int>& getCandidates() const { return candidates_; }
   /// f(x) and ∇f(x) for ‖x − c‖ ≤ radius_mm of the last collect (exact there).
   double operator()(const Eigen::Vector3d& x_mm, Eigen::Vector3d& gradient) const;
   /// Number of collected centres.

@@ -285,6 +285,25 @@ TEST(ContactResolver, MeasureOnlyCountsNoDepthOfProbesTheSurfaceLeftBehind) {
   EXPECT_EQ(gone.max_penetration_mm, 0.0);
 }
 
+TEST(ContactResolver, ProbesClearOfABoneSlidingPastAreRequeriedNotProjected) {
+  // The box's bottom face stays 6 mm above the sphere (more than the 3 mm projection travel)
+  // while the box slides 1 mm per frame along it: every reference ages by 1 mm a frame, and
+  // is refreshed by a query instead of making the probes be projected.
+  GaussianField field = makeTwoSpheres();
+  const double half = 50.0, gap = 6.0;
+  ContactResolver resolver = makeResolver(makeBox(half, half), kRadius + gap + half, field);
+  const Eigen::Matrix3Xd carried = makeProbes(300);
+  long long queries = 0;
+  for (int frame = 1; frame <= 20; ++frame) {
+    const Eigen::Isometry3d pose(Eigen::Translation3d(frame * 1.0, kRadius + gap + half, 0.0));
+    const ContactReport& r = resolver.measureOnly({pose}, carried, field);
+    EXPECT_EQ(r.projections, 0) << "frame " << frame;
+    EXPECT_EQ(r.contacts, 0) << "frame " << frame;
+    queries += r.probe_queries;
+  }
+  EXPECT_GT(queries, 0);  // the references were refreshed
+}
+
 TEST(ContactResolver, BadInputNamesTheFault) {
   const GaussianField field = makeTwoSpheres();
   ContactSettings settings;
