@@ -91,7 +91,6 @@ bool projectOntoSurface(const GaussianField& field, Eigen::Vector3d& x_mm, int m
 
 void LocalFieldEvaluator::collect(const GaussianField& field, const Eigen::VectorXd& cutoff_radius_mm,
                                   const Eigen::Vector3d& c_mm, double radius_mm, const std::vector<int>* among) {
-  field_ = &field;
   log_inv_cutoff_ = -std::log(field.getCutoff());  // as GaussianField::setCutoff
   const Eigen::Matrix3Xd& xi = field.getCentres();
   candidates_.resize(among ? among->size() : static_cast<size_t>(field.getNumCentres()));
@@ -110,21 +109,24 @@ void LocalFieldEvaluator::collect(const GaussianField& field, const Eigen::Vecto
     for (int k = 0; k < field.getNumCentres(); ++k) consider(k);
   }
   candidates_.resize(kept);
+  offset_ = field.getOffset();
+  centres_.resize(kept);
+  for (size_t a = 0; a < kept; ++a) {
+    const int k = candidates_[a];
+    centres_[a] = Centre{xi(0, k), xi(1, k), xi(2, k), field.getShapes()(k), field.getWeights()(k)};
+  }
 }
 
 double LocalFieldEvaluator::operator()(const Eigen::Vector3d& x_mm, Eigen::Vector3d& gradient) const {
-  const Eigen::Matrix3Xd& xi = field_->getCentres();
-  const Eigen::VectorXd& lambda = field_->getWeights();
-  const Eigen::VectorXd& alpha = field_->getShapes();
-  double f = field_->getOffset();
+  double f = offset_;
   gradient.setZero();
-  for (int k : candidates_) {
-    const Eigen::Vector3d d = x_mm - xi.col(k);
+  for (const Centre& c : centres_) {
+    const Eigen::Vector3d d = x_mm - Eigen::Vector3d(c.x, c.y, c.z);
     const double r2 = d.squaredNorm();
-    if (!(alpha(k) * r2 <= log_inv_cutoff_)) continue;
-    const double w = lambda(k) * gaussian::calcPhi(alpha(k), r2);
+    if (!(c.alpha * r2 <= log_inv_cutoff_)) continue;
+    const double w = c.lambda * gaussian::calcPhi(c.alpha, r2);
     f += w;
-    gradient -= (2.0 * alpha(k) * w) * d;
+    gradient -= (2.0 * c.alpha * w) * d;
   }
   return f;
 }

@@ -68,15 +68,21 @@ class LocalFieldEvaluator {
                double radius_mm, const std::vector<int>* among = nullptr);
   /// The collected centres (ascending indices).
   const std::vector<int>& getCandidates() const { return candidates_; }
-  /// f(x) and ∇f(x) for ‖x − c‖ ≤ radius_mm of the last collect (exact there).
+  /// f(x) and ∇f(x) for ‖x − c‖ ≤ radius_mm of the last collect (exact there), of the field as
+  /// it was then (the candidates' centres, shapes and weights are copied, contiguous).
   double operator()(const Eigen::Vector3d& x_mm, Eigen::Vector3d& gradient) const;
   /// Number of collected centres.
   int size() const { return static_cast<int>(candidates_.size()); }
 
  private:
-  const GaussianField* field_ = nullptr;
+  double offset_ = 0.0;
   double log_inv_cutoff_ = 0.0;
   std::vector<int> candidates_;  ///< ascending
+  /// Per candidate, in candidates_ order: ξ (mm), α (mm⁻²), λ — contiguous for the sums.
+  struct Centre {
+    double x, y, z, alpha, lambda;
+  };
+  std::vector<Centre> centres_;
 };
 
 /// Local muscle thickness (mm) at a surface point p (f(p) ≈ 0): the distance from p along
