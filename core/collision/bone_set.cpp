@@ -92,7 +92,7 @@ struct BoneSet::Impl {
   }
 
   /// Exact signed distance s (mm), closest point q_B and outward normal n_B of bone b when
-  /// s ≤ r; s = +∞ (q_B, n_B unset) when p_B is outside and farther than r (mm).
+  /// s ≤ r; s = +∞ (q_B, n_B zero) when p_B is outside and farther than r (mm).
   static void queryExact(const Bone& b, const Eigen::Vector3d& p_B, double r, double& s,
                          Eigen::Vector3d& q_B, Eigen::Vector3d& n_B) {
     // One tree descent, pruned at r, gives the closest point and the pseudo-normal sign; a point
@@ -103,6 +103,8 @@ struct BoneSet::Impl {
     const double d = c.distance_mm;
     if (c.triangle < 0) {
       s = kInf;
+      q_B.setZero();
+      n_B.setZero();
       return;
     }
     q_B = c.point_mm;

@@ -41,7 +41,10 @@ struct ProbeQueryStats {
 ///     that centre is outside the bone;
 ///  3. per probe, the exterior distance δ from p_B = X_BW p_W to the bone's body-frame box
 ///     bounds s_b(p) ≥ δ, so the bone is skipped when δ > r or δ ≥ the best s so far.
-/// Survivors get the exact signed distance in the body frame. Results are mapped back to W.
+/// Survivors get the exact signed distance in the body frame, from one descent of the
+/// distance tree pruned at r (a point with no surface within r is outside unless it lies in
+/// the bone's box, where it may be deeper inside than r: only then is the whole tree
+/// searched). Results are mapped back to W.
 ///
 /// Not thread-safe for concurrent calls (queries reuse internal buffers); each call runs
 /// its probes in parallel (OpenMP) with results independent of the thread count.

@@ -336,8 +336,8 @@ double ContactResolver::measure(const GaussianField& field, bool measure_only) {
   // probe's reach, and whose bound no longer does only because the probe has moved in the bone
   // frame since, is queried again where the probe now starts (s is 1-Lipschitz, so a reference
   // at an unprojected point bounds the surface point within the reach as well). Most such
-  // probes are still clear and need no projection (iliacus, main job: ~2/3 of the projections
-  // were of probes more than the reach from every bone, whose bounds had only aged).
+  // probes are still clear and need no projection (iliacus, replay of the main job: about 400
+  // instead of 780 projections per measuring call).
   for (int b = 0; b < B; ++b) {
     query_index_.clear();
     for (int i = 0; i < P; ++i) {

@@ -129,12 +129,13 @@ struct ContactReport {
 /// query is not projected either. A pair whose reference cleared that threshold by the
 /// projection's reach, and whose bound falls below it only because the probe has moved in the
 /// bone frame since, is first queried again where the probe starts (the reference has aged;
-/// refreshed, most such probes need no projection: iliacus, main job, about 400 instead of 1000
-/// projections per frame). Queries use the radius query_band_mm + travel + 10 mm;
-/// a probe with no bone within it records the radius as its (valid) lower bound. A response
-/// adds its longest centre move to the slack σ_i of every probe within reach (φ ≥ 1e-3) of a
-/// moved centre: the bound also subtracts σ_i, and the next projection of that probe gets
-/// ⌈σ_i / newton_step_cap_mm⌉ more Newton steps (so probes follow a surface the response moved).
+/// refreshed, most such probes need no projection: iliacus, replay of the main job, about 400
+/// instead of 780 projections per measuring call). Queries use the radius query_band_mm +
+/// travel + 10 mm; a probe with no bone within it records the radius as its (valid) lower
+/// bound. A response adds its longest centre move to the slack σ_i of every probe within reach
+/// (φ ≥ 1e-3) of a moved centre: the bound also subtracts σ_i, and the next projection of that
+/// probe gets ⌈σ_i / newton_step_cap_mm⌉ more Newton steps (so probes follow a surface the
+/// response moved).
 /// The probes to project are grouped by 10 mm cells; each group collects once the centres
 /// that can be active within its probes' travel (LocalFieldEvaluator, the field's own numbers),
 /// from the list of its 40 mm block.
@@ -151,7 +152,8 @@ struct ContactReport {
 /// maxima if still off (ContactReport::probes_off_surface); in the iliacus flexion 827 of the
 /// 9255 (probe, frame) pairs deeper than 0.5 mm were such probes, none of them a frame's
 /// deepest. Iliacus, main job: about 850 projections and 170 queries per frame instead of 940
-/// and 440; where the time goes is in models/hip/README.md ("Contacts").
+/// and 440 (about 400 and 160 since the references are refreshed, above); where the time goes
+/// is in models/hip/README.md ("Contacts").
 ///
 /// **Response** (respond = true): a smooth push of the muscle out of the bones, moving free
 /// centres only. Each call first measures as when measuring only; only if that finds a probe
