@@ -110,7 +110,7 @@ class MuscleDeformer {
   /// targets, volume) move by the Gaussian-weighted mean offset of the centres around them,
   /// so neither the regulariser nor the curvature cost pulls the correction back.
   /// Limit: offsets are kept for the whole run (no relaxation), so a muscle pushed by a
-  /// bone that later moves away stays pushed; the hip scenes run the response off.
+  /// bone that later moves away stays pushed.
   /// @throws std::invalid_argument as setCurrentCentres.
   void applyKeptCorrection(const Eigen::Matrix3Xd& centres_mm);
 
