@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -41,6 +42,32 @@ std::string jsonString(const std::string& text) {
     }
   }
   return out + "\"";
+}
+
+/// Median of a non-empty list (sorted in place).
+double medianOf(std::vector<double>& values) {
+  std::sort(values.begin(), values.end());
+  const std::size_t n = values.size();
+  return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
+}
+
+/// Median and maximum of every `*_ms` column of the recorded table (the components' own
+/// timings, such as collision_ms), over its finite values; columns without one are left out.
+std::vector<ReportedTiming> summarizeReportedTimes(const StorageTable& table) {
+  std::vector<ReportedTiming> out;
+  const std::string suffix = "_ms";
+  for (std::size_t c = 1; c < table.column_labels.size(); ++c) {
+    const std::string& label = table.column_labels[c];
+    if (label.size() < suffix.size() || label.compare(label.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    std::vector<double> values;
+    for (const std::vector<double>& row : table.rows)
+      if (std::isfinite(row[c])) values.push_back(row[c]);
+    if (values.empty()) continue;
+    const double median = medianOf(values);
+    out.push_back({label, median, values.back()});
+  }
+  return out;
 }
 
 /// Writes this frame's component geometry and records it in the .pvd series.
@@ -137,11 +164,10 @@ RunSummary runModel(Model& model, const RunOptions& options) {
   summary.frames = frames;
   if (!frame_ms.empty()) {
     std::vector<double> sorted = frame_ms;
-    std::sort(sorted.begin(), sorted.end());
-    const std::size_t n = sorted.size();
-    summary.frame_median_ms = n % 2 ? sorted[n / 2] : 0.5 * (sorted[n / 2 - 1] + sorted[n / 2]);
+    summary.frame_median_ms = medianOf(sorted);
     summary.frame_max_ms = sorted.back();
   }
+  summary.reported = summarizeReportedTimes(reporter.getTable());
 
   reporter.write(dir);
   for (const auto& [name, pvd] : series) pvd.write((fs::path(dir) / (name + ".pvd")).string());
@@ -173,6 +199,13 @@ void writeSummaryJson(const std::string& path, const Model& model, const RunSumm
     out << "    {\"stage\": " << jsonString(s.name) << ", \"total\": " << s.total_ms
         << ", \"mean_per_frame\": " << (summary.frames ? s.total_ms / summary.frames : 0.0)
         << ", \"max\": " << s.max_ms << "}" << (i + 1 < summary.stages.size() ? "," : "") << "\n";
+  }
+  out << "  ],\n"
+      << "  \"reported_ms\": [\n";
+  for (std::size_t i = 0; i < summary.reported.size(); ++i) {
+    const ReportedTiming& r = summary.reported[i];
+    out << "    {\"output\": " << jsonString(r.output) << ", \"median\": " << r.median_ms
+        << ", \"max\": " << r.max_ms << "}" << (i + 1 < summary.reported.size() ? "," : "") << "\n";
   }
   out << "  ],\n"
       << "  \"machine\": {\"hardware_threads\": " << std::thread::hardware_concurrency()

@@ -3,7 +3,8 @@
 /// The run loop: initialize components, step through the motion, update each
 /// component, record outputs, and write OUTDIR all-or-nothing:
 ///   OUTDIR/outputs.sto, OUTDIR/outputs.csv (see Reporter),
-///   OUTDIR/summary.json (frames, wall time per frame, time per stage),
+///   OUTDIR/summary.json (frames, wall time per frame, time per stage, and median and
+///   maximum of every recorded `*_ms` output),
 ///   OUTDIR/meshes/NAME_#####.vtp + OUTDIR/NAME.pvd with --frames-mesh.
 #include "framework/model.h"
 
@@ -26,6 +27,14 @@ struct StageTiming {
   double max_ms = 0;    ///< slowest frame
 };
 
+/// Median and maximum over the frames of a component's reported time (an output whose name
+/// ends in `_ms`, e.g. `iliacus_r.collision_ms`), over the frames where it is a number.
+struct ReportedTiming {
+  std::string output;  ///< COMPONENT.OUTPUT
+  double median_ms = 0;
+  double max_ms = 0;
+};
+
 struct RunSummary {
   int frames = 0;
   double initialize_seconds = 0;  ///< Component::initialize, all components
@@ -34,6 +43,7 @@ struct RunSummary {
   double frame_median_ms = 0;     ///< wall time of one frame (all stages)
   double frame_max_ms = 0;
   std::vector<StageTiming> stages;
+  std::vector<ReportedTiming> reported;  ///< every recorded `*_ms` output, in column order
 };
 
 /// Runs the model's motion. Components update in document order each frame
