@@ -285,9 +285,7 @@ void RBFMuscle::update(const FrameState& state) {
   const bool carried = contact_resolver_ && contact_response.get();  // the probes at the frame's motion, below
   if (carried) {  // sub-steps guard tunnelling of the response only
     const auto t = std::chrono::steady_clock::now();
-    std::vector<DualQuaternion> dq;
-    for (const Eigen::Isometry3d& m : bone_motion_M_) dq.push_back(toDualQuaternion(m));
-    predictPoints(rest_probes_M_, probe_weights_, dq, carried_probes_M_);
+    carryProbes(bone_motion_M_);
     steps = contact_resolver_->calcSubsteps(X_MB_, carried_probes_M_);
     result_.collision_ms += msSince(t);
   }
@@ -347,11 +345,7 @@ void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::
   deformer_->update(motion_M);
   if (!contact_resolver_) return;
   const auto start = std::chrono::steady_clock::now();
-  if (!probes_carried) {
-    std::vector<DualQuaternion> dq;
-    for (const Eigen::Isometry3d& m : motion_M) dq.push_back(toDualQuaternion(m));
-    predictPoints(rest_probes_M_, probe_weights_, dq, carried_probes_M_);
-  }
+  if (!probes_carried) carryProbes(motion_M);
   const GaussianField& field = deformer_->getField();
   const ContactReport* measured = nullptr;
   if (contact_response.get()) {  // a push moves centres of a copy (made only then), handed back to the deformer
@@ -369,6 +363,12 @@ void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::
   result_.contact_iterations += report.iterations;
   result_.probes_off_surface += report.probes_off_surface;
   result_.collision_ms += msSince(start);
+}
+
+void RBFMuscle::carryProbes(const std::vector<Eigen::Isometry3d>& motion_M) {
+  std::vector<DualQuaternion> dq;
+  for (const Eigen::Isometry3d& m : motion_M) dq.push_back(toDualQuaternion(m));
+  predictPoints(rest_probes_M_, probe_weights_, dq, carried_probes_M_);
 }
 
 void RBFMuscle::appendFrameGeometry(std::vector<FrameGeometry>& geometry) const {

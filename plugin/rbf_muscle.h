@@ -266,6 +266,8 @@ class RBFMuscle final : public Component {
   /// `probes_carried`: carried_probes_M_ already holds the probes carried to `motion_M`.
   void step(const std::vector<Eigen::Isometry3d>& motion_M, const std::vector<Eigen::Isometry3d>& X_MB,
             bool probes_carried = false);
+  /// carried_probes_M_ ← the rest probes carried by the blend of the bone motions `motion_M`.
+  void carryProbes(const std::vector<Eigen::Isometry3d>& motion_M);
 
   /// Rest fibres and their tracker (fibres > 0), and the line-of-action path (if given).
   void initializeFibres(const Skeleton& skeleton, const GaussianField& field, const Attachments& attachments,

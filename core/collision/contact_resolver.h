@@ -281,6 +281,8 @@ class ContactResolver {
   /// `measure_only`: no query band, and pairs certainly inside are not queried unless they may
   /// hold the deepest probe (the contact count and the depths reported are the same).
   double measure(const GaussianField& field, bool measure_only = false);
+  /// Newton steps of probe i's next projection: newton_steps plus its slack in steps of the cap.
+  int countNewtonSteps(int i) const;
   /// Projects the probes of project_index_ onto f = 0 of `field` (their normals too; slack cleared).
   void projectListed(const GaussianField& field);
   /// Exact signed distances of the listed probes, where they are now, to bone b (posed by X_BM,
