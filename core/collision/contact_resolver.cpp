@@ -191,12 +191,11 @@ const ContactReport& ContactResolver::measureOnly(const std::vector<Eigen::Isome
 
 const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& X_MB, const Eigen::Matrix3Xd& carried_M,
                                           const GaussianField& measured, GaussianField* moved) {
-  const GaussianField& field = measured;
   const bool respond = moved != nullptr;
   if (static_cast<int>(X_MB.size()) != countBones() || carried_M.cols() != probes_M_.cols() ||
-      field.getNumCentres() != static_cast<int>(free_centres_.size()))
+      measured.getNumCentres() != static_cast<int>(free_centres_.size()))
     throw CollisionError("ContactResolver::resolve: " + std::to_string(X_MB.size()) + " poses, " +
-                         std::to_string(carried_M.cols()) + " probes, " + std::to_string(field.getNumCentres()) +
+                         std::to_string(carried_M.cols()) + " probes, " + std::to_string(measured.getNumCentres()) +
                          " centres; expected " + std::to_string(countBones()) + ", " + std::to_string(countProbes()) +
                          ", " + std::to_string(free_centres_.size()));
   if (dump_) {
@@ -205,9 +204,9 @@ const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& 
     writeValue(*dump_, respond ? 1 : 0);
     for (const Eigen::Isometry3d& X : X_MB) writeMatrix(*dump_, Eigen::Matrix4d(X.matrix()));
     writeMatrix(*dump_, carried_M);
-    writeMatrix(*dump_, field.getCentres());
-    writeMatrix(*dump_, field.getWeights());
-    writeValue(*dump_, field.getOffset());
+    writeMatrix(*dump_, measured.getCentres());
+    writeMatrix(*dump_, measured.getWeights());
+    writeValue(*dump_, measured.getOffset());
     dump_->flush();
   }
   const auto start = std::chrono::steady_clock::now();
@@ -221,7 +220,7 @@ const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& 
 
   // Measured first as when measuring only (the same contacts and depths with the least work);
   // most frames need no push, and only a response needs the query band's near probes.
-  double penetration = measure(field, true);
+  double penetration = measure(measured, true);
   report_.contacts = static_cast<int>((excess_mm_.array() > 0.0).count());
   report_.max_penetration_before_mm = penetration;
   const bool push = respond && penetration > settings_.tolerance_mm;
@@ -232,15 +231,14 @@ const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& 
       moved->setWeights(measured.getWeights());
       moved->setOffset(measured.getOffset());
     }
-    const GaussianField& field = *moved;
-    penetration = measure(field);
+    penetration = measure(*moved);
     // Trust region on the centre moves: doubled after a step that lowered the worst excess,
     // halved after one that did not, within [max_centre_step_mm / 8, 4 max_centre_step_mm].
     double step_limit = settings_.max_centre_step_mm;
     // The best iterate (lowest worst excess) is kept: a stopped response never leaves the
     // muscle deeper than its best state.
     double best = penetration;
-    best_centres_ = field.getCentres();
+    best_centres_ = moved->getCentres();
     best_probes_ = probes_M_;
     while (penetration > settings_.tolerance_mm) {
       if (report_.iterations >= settings_.max_iterations) {
@@ -253,23 +251,23 @@ const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& 
       }
       ++report_.iterations;
       const double previous = penetration;
-      penetration = measure(field);
+      penetration = measure(*moved);
       step_limit = penetration < previous ? std::min(2.0 * step_limit, 4.0 * settings_.max_centre_step_mm)
                                           : std::max(0.5 * step_limit, 0.125 * settings_.max_centre_step_mm);
       if (penetration < best) {
         best = penetration;
-        best_centres_ = field.getCentres();
+        best_centres_ = moved->getCentres();
         best_probes_ = probes_M_;
       }
     }
     if (penetration > best) {
       // Back to the best centres; every probe may be as far from the surface as the largest
       // centre move back (slack), so measure again.
-      const double back = (field.getCentres() - best_centres_).colwise().norm().maxCoeff();
+      const double back = (moved->getCentres() - best_centres_).colwise().norm().maxCoeff();
       moved->setCentrePositions(best_centres_);
       probes_M_ = best_probes_;
       slack_mm_.array() += back;
-      penetration = measure(field);
+      penetration = measure(*moved);
     }
   }
   report_.max_penetration_mm = penetration;
