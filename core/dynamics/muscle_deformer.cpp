@@ -155,11 +155,13 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   constexpr int kGuardPasses = 5;
   result_.topology_ms = 0.0;
   result_.islands_found = 0;
+  result_.necks_raised = 0;
   for (int pass = 0;; ++pass) {
     start = std::chrono::steady_clock::now();
     const TopologyReport topology = topology_guard_->run(field_, calcCurrentBox(topology_guard_->getSettings().cell_mm));
     result_.topology_ms += msSince(start);
     result_.islands_found += topology.islands_found + topology.cavities_found;
+    result_.necks_raised += topology.necks_raised;
     result_.islands_left = topology.defects_left;
     result_.topology_stop = topology.stop_reason;
     if (topology.weights_changed == 0) break;

@@ -57,6 +57,7 @@ struct DeformResult {
   double volume_correction = kNaN;  ///< δ of the volume correction (volume_keeper.h): free weights × (1 ± δ)
   int islands_found = 0;          ///< islands and cavities the guard removed this frame (summed over its passes)
   int islands_left = 0;           ///< islands and cavities at the guard's last look (0 unless it stopped early)
+  int necks_raised = 0;           ///< thinning necks the guard raised this frame (summed over its passes)
   TopologyStop topology_stop = TopologyStop::kDisabled;  ///< why the guard stopped
   double predict_ms = kNaN;       ///< wall time of the prediction (ms)
   double descent_ms = kNaN;       ///< wall time of the descent (ms)
@@ -75,8 +76,8 @@ struct DeformResult {
 ///  3. volume (volume_keeper.h): the free centres' weights scaled (δ·|λ rest|) so the volume
 ///     equals the rest volume; the correction is taken out before the next descent;
 ///  4. one piece (topology_guard.h): through the weights of free centres, crumbs that
-///     came apart from the body are lowered below zero, larger pieces are joined back
-///     and cavities filled; then step 3 runs again, and both repeat while the guard
+///     came apart from the body are lowered below zero, larger pieces are joined back,
+///     cavities filled and thinning necks raised; then step 3 runs again, and both repeat while the guard
 ///     changes something (at most 5 passes, the last one ending with the guard, so the
 ///     surface is one piece and its volume, measured, off by the last repair only).
 /// With warm_start (default) a frame starts from the previous frame's result carried

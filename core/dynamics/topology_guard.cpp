@@ -5,9 +5,37 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <queue>
 #include <stdexcept>
 
 namespace rbfmuscle {
+
+namespace {
+
+/// Calls visit(next) for every one of the 14 Kuhn neighbours of node `id` (offsets in
+/// {0, 1}³ \ {0} and their negatives, the edges of the extraction's tetrahedra) in the grid.
+template <typename Visit>
+void forEachNeighbour(const RegularGrid& grid, std::int64_t id, Visit&& visit) {
+  static constexpr int kOffsets[7][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
+  const std::int64_t nx = grid.counts[0], ny = grid.counts[1], nz = grid.counts[2];
+  const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
+  for (const auto& o : kOffsets) {
+    for (int sign = -1; sign <= 1; sign += 2) {
+      const std::int64_t a = i + sign * o[0], b = j + sign * o[1], c = k + sign * o[2];
+      if (a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz) continue;
+      visit(grid.index(a, b, c));
+    }
+  }
+}
+
+/// Whether node `id` lies on a face of the grid (outside for the extraction).
+bool isOnFace(const RegularGrid& grid, std::int64_t id) {
+  const std::int64_t nx = grid.counts[0], ny = grid.counts[1], nz = grid.counts[2];
+  const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
+  return i == 0 || j == 0 || k == 0 || i == nx - 1 || j == ny - 1 || k == nz - 1;
+}
+
+}  // namespace
 
 std::string toString(TopologyStop stop) {
   switch (stop) {
@@ -38,6 +66,9 @@ TopologyGuard::TopologyGuard(std::vector<bool> free_mask, Eigen::VectorXd max_ab
   if (!(settings.margin >= 0.0) || !std::isfinite(settings.margin)) {
     throw std::invalid_argument("TopologyGuard: margin " + std::to_string(settings.margin) + ", expected >= 0");
   }
+  if (!(settings.neck_level >= 0.0) || !std::isfinite(settings.neck_level)) {
+    throw std::invalid_argument("TopologyGuard: neck_level " + std::to_string(settings.neck_level) + ", expected >= 0");
+  }
 }
 
 void TopologyGuard::updateValues(const GaussianField& field, const RegularGrid& grid) {
@@ -67,7 +98,7 @@ void TopologyGuard::updateValues(const GaussianField& field, const RegularGrid& 
   evaluated_cutoff_ = field.getCutoff();
 }
 
-int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& box_mm) {
+int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& box_mm, double level) {
   if (box_mm.isEmpty()) throw std::invalid_argument("TopologyGuard: empty box");
   // The nodes of extractIsoSurface.
   RegularGrid grid;
@@ -83,27 +114,20 @@ int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& 
     for (std::int64_t j = 1; j < ny - 1; ++j)
       for (std::int64_t i = 1; i < nx - 1; ++i) {
         const std::int64_t id = grid_.index(i, j, k);
-        if (value_of_node_[static_cast<size_t>(id)] > 0.0) {
+        if (value_of_node_[static_cast<size_t>(id)] > level) {
           piece_of_node_[static_cast<size_t>(id)] = kUnlabelled;
           inside_ids_.push_back(id);
         }
       }
   // Breadth-first growth from queue_ over the 14 Kuhn neighbours inside the grid: `take`
   // decides (and marks) whether a neighbour joins, `visit` sees every node that joined.
-  static constexpr int kOffsets[7][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}, {0, 1, 1}, {1, 1, 1}};
   auto grow = [&](auto&& take, auto&& visit) {
     for (size_t q = 0; q < queue_.size(); ++q) {
       const std::int64_t id = queue_[q];
       visit(id);
-      const std::int64_t i = id % nx, j = (id / nx) % ny, k = id / (nx * ny);
-      for (const auto& o : kOffsets) {
-        for (int sign = -1; sign <= 1; sign += 2) {
-          const std::int64_t a = i + sign * o[0], b = j + sign * o[1], c = k + sign * o[2];
-          if (a < 0 || b < 0 || c < 0 || a >= nx || b >= ny || c >= nz) continue;
-          const std::int64_t next = grid_.index(a, b, c);
-          if (take(next)) queue_.push_back(next);
-        }
-      }
+      forEachNeighbour(grid_, id, [&](std::int64_t next) {
+        if (take(next)) queue_.push_back(next);
+      });
     }
   };
   // A new piece from `seed`, tracking its size and its extreme node (highest or lowest f).
@@ -137,6 +161,7 @@ int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& 
         track(true));
   }
   const int pieces = static_cast<int>(piece_size_.size());
+  if (level != 0.0) return pieces;
   // Cavities: pieces of {f ≤ 0} not joined to the box faces.
   exterior_.assign(static_cast<size_t>(grid_.size()), 0);
   auto takeNegative = [&](std::int64_t next) {
@@ -163,7 +188,7 @@ int TopologyGuard::label(const GaussianField& field, const Eigen::AlignedBox3d& 
 }
 
 int TopologyGuard::countPieces(const GaussianField& field, const Eigen::AlignedBox3d& box_mm) {
-  label(field, box_mm);
+  label(field, box_mm, 0.0);
   return static_cast<int>(piece_size_.size());
 }
 
@@ -250,6 +275,59 @@ double TopologyGuard::valueWithChanges(const GaussianField& field, const Eigen::
   return value;
 }
 
+bool TopologyGuard::raiseNecks(const GaussianField& field, const Eigen::AlignedBox3d& box_mm, Eigen::VectorXd& weights,
+                               TopologyReport& report) {
+  const double level = settings_.neck_level;
+  const int pieces = label(field, box_mm, level);
+  if (pieces < 2) return false;
+  const int body = static_cast<int>(std::max_element(piece_size_.begin(), piece_size_.end()) - piece_size_.begin());
+  bool changed = false;
+  for (int piece = 0; piece < pieces; ++piece) {
+    if (piece == body || piece_size_[static_cast<size_t>(piece)] < settings_.bridge_nodes) continue;
+    // Widest path through {f > 0} from the piece to the body (largest smallest value on
+    // the way): the neck the surface still has, whose thinnest nodes are raised.
+    bottleneck_.assign(static_cast<size_t>(grid_.size()), -std::numeric_limits<double>::infinity());
+    predecessor_.assign(static_cast<size_t>(grid_.size()), -1);
+    std::priority_queue<std::pair<double, std::int64_t>> frontier;
+    for (const std::int64_t id : inside_ids_) {
+      if (piece_of_node_[static_cast<size_t>(id)] != piece) continue;
+      bottleneck_[static_cast<size_t>(id)] = std::numeric_limits<double>::infinity();
+      frontier.push({std::numeric_limits<double>::infinity(), id});
+    }
+    std::int64_t reached = -1;
+    while (!frontier.empty()) {
+      const auto [width, id] = frontier.top();
+      frontier.pop();
+      if (width < bottleneck_[static_cast<size_t>(id)]) continue;
+      if (piece_of_node_[static_cast<size_t>(id)] == body) {
+        reached = id;
+        break;
+      }
+      forEachNeighbour(grid_, id, [&, width = width, id = id](std::int64_t next) {
+        const double v = value_of_node_[static_cast<size_t>(next)];
+        if (!(v > 0.0) || isOnFace(grid_, next)) return;
+        const double through = std::min(width, v);
+        if (through > bottleneck_[static_cast<size_t>(next)]) {
+          bottleneck_[static_cast<size_t>(next)] = through;
+          predecessor_[static_cast<size_t>(next)] = id;
+          frontier.push({through, next});
+        }
+      });
+    }
+    if (reached < 0) continue;  // joined at 0 through nothing inside the grid: the island rules apply
+    bool raised = false;
+    for (std::int64_t id = reached; id >= 0; id = predecessor_[static_cast<size_t>(id)]) {
+      const double now = valueWithChanges(field, weights, id);
+      if (now < level) raised |= changeValueAt(field, grid_.node(id), kNeckRaise * level - now, weights, report);
+    }
+    if (raised) {
+      changed = true;
+      ++report.necks_raised;
+    }
+  }
+  return changed;
+}
+
 TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3d& box_mm) {
   TopologyReport report;
   if (!settings_.enabled) return report;
@@ -258,8 +336,9 @@ TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3
                                 " centres, field has " + std::to_string(field.getNumCentres()));
   }
   Eigen::VectorXd weights = field.getWeights();
+  bool necks_checked = false;
   for (int round = 0;; ++round) {
-    const int pieces = label(field, box_mm);
+    const int pieces = label(field, box_mm, 0.0);
     const int islands = std::max(0, pieces - 1);
     const int cavities = static_cast<int>(piece_size_.size()) - pieces;
     report.rounds = round + 1;
@@ -270,6 +349,13 @@ TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3
     }
     report.defects_left = islands + cavities;
     if (report.defects_left == 0) {
+      if (settings_.neck_level > 0.0 && !necks_checked && round < settings_.max_rounds) {
+        necks_checked = true;
+        if (raiseNecks(field, box_mm, weights, report)) {
+          field.setWeights(weights);
+          continue;
+        }
+      }
       report.stop_reason = TopologyStop::kOnePiece;
       break;
     }

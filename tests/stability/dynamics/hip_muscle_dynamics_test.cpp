@@ -140,7 +140,7 @@ void runFlexion(const RbfSurface& s, const Attachments& att, int step_deg, int l
     const int components = checkMesh(surface).components;
     if (deg % 10 == 0) {
       std::cout << deg << "°: components " << components << ", volume ratio " << r.volume_ratio << ", islands "
-                << r.islands_found << " (" << toString(r.topology_stop) << "), cost " << r.curvature_cost
+                << r.islands_found << " (" << toString(r.topology_stop) << "), necks " << r.necks_raised << ", cost " << r.curvature_cost
                 << ", iterations " << r.iterations << " (" << toString(r.stop_reason) << "), predict " << r.predict_ms
                 << " ms, descent " << r.descent_ms << " ms, volume " << r.volume_ms << " ms, guard " << r.topology_ms
                 << " ms\n";
@@ -203,14 +203,14 @@ TEST(IliacusDynamics, FlexionTo80InOneDegreeSteps) {
 // weight changes were carried from frame to frame and the fits were clamped at 10 mm,
 // pieces were rejoined (or not) afresh every frame and the surface jumped by up to 19 mm
 // beyond the femur's move at 1° steps; with the guard's grid sliding with the motion, by
-// up to 3.3 mm (gluteus) and 1.8 mm (iliacus). Since the grid is fixed in M, what is left
-// beyond the femur's move plus 1 mm (measured 2026-12-01, volume kept through the free
-// centres' weights): at 1° steps the gluteus by up to 2.0 mm (61°, where the stretched field
-// is flat: |∇f| ≈ 0.13 at the jumping point) and the iliacus by up to 3.3 mm (51°, a frame
-// in which the guard removed an island; 0.39 mm with the former global volume offset); at
-// 10° steps the gluteus by up to 4.6 mm (80°, where the stretched belly thins: points
-// 4–5 field units deep at 70° are on the surface at 80°).
-TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo2_0mm_Issue4Open) {
+// up to 3.3 mm (gluteus) and 1.8 mm (iliacus); with the grid fixed in M, by 2.0 mm (gluteus,
+// 61°, a flat field) and 3.3 mm (iliacus, 51°, a neck cut and bridged). Since the guard
+// raises thinning necks (topology_guard.h, neck_level), what is left beyond the femur's move
+// plus 1 mm (measured 2026-12-02): at 1° steps the gluteus by up to 0.59 mm (8°, beside a
+// crumb the guard removed; also 0.39 mm at 49° and 0.30 mm at 77°) and the iliacus by up to
+// 0.85 mm (43°, beside a crumb removed); at 10° steps the gluteus by up to 4.6 mm (80°, where
+// the stretched belly thins: points 4–5 field units deep at 70° are on the surface at 80°).
+TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo0_6mm_Issue4Open) {
   runFlexion(gluteus(), gluteusAttachments(gluteus()), 1, 80, true);
 }
 
@@ -218,7 +218,7 @@ TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtTenDegreeSteps_JumpsUpTo4_6mm_Issu
   runFlexion(gluteus(), gluteusAttachments(gluteus()), 10, 80, true);
 }
 
-TEST(IliacusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo3_3mm_Issue4Open) {
+TEST(IliacusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo0_9mm_Issue4Open) {
   runFlexion(iliacus(), iliacusAttachments(iliacus()), 1, 80, true);
 }
 

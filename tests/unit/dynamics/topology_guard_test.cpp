@@ -70,6 +70,42 @@ TEST(TopologyGuard, JoinsAPieceOfMuscleBackInsteadOfRemovingIt) {
   EXPECT_GT(field.calcValue(Eigen::Vector3d::Zero()), 0.0);             // joined in between
 }
 
+TEST(TopologyGuard, RaisesAThinningNeckBeforeItIsCut) {
+  // Two spheres of radius ~10 mm, centres 2d apart: f(0) = 2λ e^{−0.01 d²} − 5 = 0.1 on the
+  // node at the origin, the neck's thinnest point, so {f > 0} is one piece but {f > 0.2} two.
+  const double lambda = 5.0 * std::exp(1.0);
+  const double d = std::sqrt(-100.0 * std::log(5.1 / (2.0 * lambda)));
+  Eigen::Matrix3Xd xi(3, 2);
+  xi << -d, d, 0.0, 0.0, 0.0, 0.0;
+  const GaussianField dumbbell(-5.0, xi, Eigen::Vector2d(lambda, lambda), Eigen::Vector2d(0.01, 0.01));
+  ASSERT_NEAR(dumbbell.calcValue(Eigen::Vector3d::Zero()), 0.1, 1e-12);
+  ASSERT_EQ(checkMesh(extract(dumbbell)).components, 1);
+  const Eigen::Vector2d limits(3.0 * lambda, 3.0 * lambda);
+
+  GaussianField field = dumbbell;
+  TopologyGuard guard({true, true}, limits, TopologySettings{});
+  const TopologyReport r = guard.run(field, kBox);
+  EXPECT_EQ(r.islands_found, 0);
+  EXPECT_EQ(r.necks_raised, 1);
+  EXPECT_EQ(r.stop_reason, TopologyStop::kOnePiece) << toString(r.stop_reason);
+  // Raised to 1.5 × 0.2 at the node, symmetrically, by weights that keep their sign.
+  EXPECT_NEAR(field.calcValue(Eigen::Vector3d::Zero()), 0.3, 1e-9);
+  EXPECT_NEAR(field.getWeights()(0), field.getWeights()(1), 1e-12);
+  EXPECT_GT(field.getWeights()(0), lambda);
+  EXPECT_EQ(checkMesh(extract(field)).components, 1);
+  // A second look finds the neck above the level and leaves the field alone.
+  const Eigen::VectorXd raised = field.getWeights();
+  EXPECT_EQ(guard.run(field, kBox).weights_changed, 0);
+  EXPECT_EQ(field.getWeights(), raised);
+
+  TopologySettings off;
+  off.neck_level = 0.0;
+  GaussianField untouched = dumbbell;
+  TopologyGuard without({true, true}, limits, off);
+  EXPECT_EQ(without.run(untouched, kBox).weights_changed, 0);
+  EXPECT_EQ(untouched.getWeights(), dumbbell.getWeights());
+}
+
 TEST(TopologyGuard, FillsACavity) {
   // A negative Gaussian 2 mm from the body's centre (on a grid node): f there ≈ 13.1 − 5 − 10
   // < 0, a bubble of radius ~1.7 mm.
@@ -128,6 +164,9 @@ TEST(TopologyGuard, RejectsBadSettingsAndSizes) {
   EXPECT_THROW(TopologyGuard({true}, Eigen::VectorXd::Ones(1), s), std::invalid_argument);
   s = TopologySettings{};
   s.margin = -1.0;
+  EXPECT_THROW(TopologyGuard({true}, Eigen::VectorXd::Ones(1), s), std::invalid_argument);
+  s = TopologySettings{};
+  s.neck_level = -0.1;
   EXPECT_THROW(TopologyGuard({true}, Eigen::VectorXd::Ones(1), s), std::invalid_argument);
   GaussianField field = makeBodyAnd(1.0, Eigen::Vector3d::Zero());
   TopologyGuard guard({true}, Eigen::VectorXd::Ones(1), TopologySettings{});
