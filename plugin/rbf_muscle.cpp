@@ -177,6 +177,7 @@ void RBFMuscle::initialize(const InitContext& context) {
   settings.descent.regularisation = regularisation.get();
   settings.volume.enabled = keep_volume.get();
   settings.volume.tolerance = volume_tolerance.get();
+  settings.topology.neck_level = neck_level.get();
   deformer_ = std::make_unique<MuscleDeformer>(field, attachments, settings);
   initializeFibres(skeleton, field, attachments, settings.blend_length_mm);
   initializeContacts(skeleton);

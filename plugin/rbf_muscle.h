@@ -31,8 +31,10 @@
 ///   max_iterations (int, 50)              descent iteration cap per frame
 ///   cost_tolerance (double, 1e-5)         descent stops when the relative decrease is below
 ///   regularisation (double, 1e-2)         ρ: pull of each free centre towards its prediction
-///   keep_volume (bool, true)              correct the offset b each frame to the rest volume
+///   keep_volume (bool, true)              scale the free centres' weights each frame to the rest volume
 ///   volume_tolerance (double, 1e-3)       |V/V_rest − 1| accepted
+///   neck_level (double, 0.2)              the island guard raises a thinning neck below this f
+///                                         (field unit; 0 = off; core/dynamics/topology_guard.h)
 ///   surface_cell_mm (double, 2)           grid cell of the surface written with --frames-mesh
 ///   fibres (int, 100)                     N fibres from origin to insertion through the volume
 ///                                         (core/fibres/fibre_generator.h; 0 = none); their ends
@@ -92,6 +94,7 @@
 #include <limits>
 #include <memory>
 
+#include "dynamics/topology_guard.h"
 #include "framework/component.h"
 
 namespace rbfmuscle {
@@ -133,9 +136,12 @@ class RBFMuscle final : public Component {
                                   PropertyRange{0.0, 1.0}};
   Property<double> regularisation{this, "regularisation", 1e-2, "ρ: pull of free centres to their prediction",
                                   PropertyRange{0.0, 1e6}};
-  Property<bool> keep_volume{this, "keep_volume", true, "correct the offset b to keep the rest volume"};
+  Property<bool> keep_volume{this, "keep_volume", true, "keep the rest volume through the free centres' weights"};
   Property<double> volume_tolerance{this, "volume_tolerance", 1e-3, "accepted |V/V_rest − 1|",
                                     PropertyRange{1e-9, 1.0}};
+  Property<double> neck_level{this, "neck_level", TopologySettings{}.neck_level,
+                              "f below which the island guard raises a thinning neck (field unit, 0 = off)",
+                              PropertyRange{0.0, 10.0}};
   Property<double> surface_cell_mm{this, "surface_cell_mm", 2.0, "grid cell of per-frame surfaces (mm)",
                                    PropertyRange{0.05, 50.0}};
   Property<int> fibres{this, "fibres", 100, "number of fibres (0 = none)", PropertyRange{0, 10000}};
