@@ -10,6 +10,8 @@ Python 3 with numpy (Debian: python3-numpy). Formats are the ones the host write
 import json
 import math
 import os
+import re
+import sys
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -102,6 +104,20 @@ def read_vtp(path):
         lines.append(conn[start:end])
         start = end
     return points, tri, lines
+
+
+def frame_meshes(out, name):
+    """[(frame, path)] of OUTDIR/meshes/NAME_#####.vtp in frame order, as a run with
+    --frames-mesh writes them; exits with a message naming the directory when there are none."""
+    directory = os.path.join(out, "meshes")
+    pattern = re.compile(re.escape(name) + r"_(\d+)\.vtp")
+    found = []
+    if os.path.isdir(directory):
+        found = sorted((int(m.group(1)), os.path.join(directory, f))
+                       for f in os.listdir(directory) for m in [pattern.fullmatch(f)] if m)
+    if not found:
+        sys.exit(f"{directory}: no {name}_NNNNN.vtp (run with --frames-mesh; the muscle's name as in the model)")
+    return found
 
 
 def read_ply(path):

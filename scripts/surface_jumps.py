@@ -9,7 +9,6 @@ Prints the worst excess and, per frame with an excess, (frame, worst mm, vertice
 CT frame, mm; needs numpy and scipy.
 """
 import os
-import re
 import sys
 
 import numpy as np
@@ -36,12 +35,9 @@ def sampled(vertices, triangles, n=4):
 def main():
     out, name, step_deg = sys.argv[1], sys.argv[2], float(sys.argv[3])
     axis = AXIS / np.linalg.norm(AXIS)
-    pattern = re.compile(re.escape(name) + r"_(\d+)\.vtp")
-    files = sorted((f for f in os.listdir(os.path.join(out, "meshes")) if pattern.fullmatch(f)),
-                   key=lambda f: int(pattern.fullmatch(f).group(1)))
     previous, worst, frames = None, 0.0, []
-    for k, f in enumerate(files):
-        vertices, triangles = bench_io.read_vtp(os.path.join(out, "meshes", f))[:2]
+    for k, (_, path) in enumerate(bench_io.frame_meshes(out, name)):
+        vertices, triangles = bench_io.read_vtp(path)[:2]
         if previous is not None:
             d = cKDTree(previous).query(vertices)[0]
             u = vertices - HIP_MM

@@ -14,7 +14,6 @@ insertion lies up to 0.6 mm inside the femur at rest).
 Flexion only (adduction and rotation must be 0); needs numpy and scipy.
 """
 import os
-import re
 import sys
 
 import numpy as np
@@ -47,16 +46,15 @@ def main():
     if len(sys.argv) != 3:
         sys.exit(__doc__)
     out, name = sys.argv[1], sys.argv[2]
-    table = bench_io.Storage(os.path.join(out, "outputs.sto"))
+    sto = os.path.join(out, "outputs.sto")
+    if not os.path.isfile(sto):
+        sys.exit(f"{sto}: not found (the output directory of a flexion run)")
+    table = bench_io.Storage(sto)
     for column in ("hip_adduction_r", "hip_rotation_r"):
         if table.has(column) and np.any(np.abs(table.angle_deg(column)) > 1e-9):
             sys.exit(f"{out}/outputs.sto: {column} is not 0; this check poses the femur by flexion only")
     flexion_rad = np.radians(table.angle_deg("hip_flexion_r"))
-    pattern = re.compile(re.escape(name) + r"_(\d+)\.vtp")
-    files = sorted((f for f in os.listdir(os.path.join(out, "meshes")) if pattern.fullmatch(f)),
-                   key=lambda f: int(pattern.fullmatch(f).group(1)))
-    if not files:
-        sys.exit(f"{out}/meshes: no {name}_NNNNN.vtp (run with --frames-mesh; the muscle's name as in the model)")
+    files = bench_io.frame_meshes(out, name)
     femur_v, femur_t = bench_io.read_ply(FEMUR)[:2]
     femur_samples = sampled(femur_v, femur_t)
     # The triangle of every sample (sampled() stacks the vertices, then the triangles once per
@@ -69,13 +67,12 @@ def main():
     sample_normals = np.vstack([vertex_normals] + [normals_t] * repeats)
     axis = AXIS / np.linalg.norm(AXIS)
     worst, frames = 0.0, []
-    for f in files:
-        k = int(pattern.fullmatch(f).group(1))
+    for k, path in files:
         rotation = Rotation.from_rotvec(axis * flexion_rad[k]).as_matrix()
         pose = lambda x: (x - HIP_MM) @ rotation.T + HIP_MM  # noqa: E731
         posed_v, posed_samples = pose(femur_v), pose(femur_samples)
         tree = cKDTree(posed_samples)
-        vertices = bench_io.read_vtp(os.path.join(out, "meshes", f))[0]
+        vertices = bench_io.read_vtp(path)[0]
         distance, closest = tree.query(vertices)
         # Candidates: near, and behind the closest sample's normal; the winding number decides.
         behind = np.einsum("ij,ij->i", vertices - posed_samples[closest], sample_normals[closest] @ rotation.T) < 0.0
