@@ -211,6 +211,7 @@ void RBFMuscle::initializeContacts(const Skeleton& skeleton) {
   settings.tolerance_mm = contact_tolerance_mm.get();
   settings.max_substeps = max_substeps.get();
   settings.max_iterations = contact_iterations_cap.get();
+  settings.max_reseats = contact_max_reseats.get();
   try {
     contact_resolver_ = std::make_unique<ContactResolver>(std::move(bones), field, rest_probes_M_, std::move(free_centres),
                                                           settings);
@@ -279,8 +280,8 @@ void RBFMuscle::update(const FrameState& state) {
     X_MB_[b] = to_M * state.getBodyTransform(contact_bodies_[b]);
   result_.collision_ms = contact_resolver_ ? 0.0 : DeformResult::kNaN;
   result_.max_penetration_mm = result_.max_penetration_before_mm = result_.contacts = DeformResult::kNaN;
-  result_.max_penetration_free_mm = DeformResult::kNaN;
-  result_.probes_off_surface = contact_resolver_ ? 0.0 : DeformResult::kNaN;
+  result_.max_penetration_free_mm = result_.max_penetration_watched_mm = DeformResult::kNaN;
+  result_.probes_off_surface = result_.probes_reseated = contact_resolver_ ? 0.0 : DeformResult::kNaN;
   result_.contact_iterations = 0;
   int steps = 1;
   const bool carried = contact_resolver_ && contact_response.get();  // the probes at the frame's motion, below
@@ -361,8 +362,10 @@ void RBFMuscle::step(const std::vector<Eigen::Isometry3d>& motion_M, const std::
   result_.max_penetration_before_mm = maxOrNaN(result_.max_penetration_before_mm, report.max_penetration_before_mm);
   result_.max_penetration_free_mm = maxOrNaN(result_.max_penetration_free_mm, report.max_penetration_free_mm);
   result_.contacts = maxOrNaN(result_.contacts, report.contacts);
+  result_.max_penetration_watched_mm = maxOrNaN(result_.max_penetration_watched_mm, report.max_penetration_watched_mm);
   result_.contact_iterations += report.iterations;
   result_.probes_off_surface += report.probes_off_surface;
+  result_.probes_reseated += report.probes_reseated;
   result_.collision_ms += msSince(start);
 }
 

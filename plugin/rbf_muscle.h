@@ -58,6 +58,10 @@
 ///                                         steps its fibre lengths by up to 2.2 % between 1° frames
 ///   contact_tolerance_mm (double, 0.5)    accepted penetration beyond the rest overlap
 ///   contact_max_iterations (int, 10)      cap on response iterations per (sub-)step
+///   contact_max_reseats (int, 0)          cap on probes re-seated per (sub-)step where a bone
+///                                         vertex is inside the muscle, more than the tolerance
+///                                         deep, with no probe near (0: measured only, output
+///                                         max_penetration_watched_mm; contact_resolver.h)
 ///   max_substeps (int, 8)                 cap on sub-steps per frame of the tunnelling guard
 ///   Contacts (core/collision/contact_resolver.h): each probe may stay as deep inside a bone as
 ///   it was at rest (documented rest overlap: the pelvis proxy overlaps the iliacus by up to
@@ -84,7 +88,10 @@
 ///   max_penetration_before_mm (the same before the response),
 ///   contacts (probes found beyond their rest overlap, max over sub-steps), probes_off_surface
 ///   (at the first measurement of each sub-step: deepest probes that stayed off the surface after
-///   a second projection and were left out of the maxima, summed over sub-steps), substeps,
+///   a second projection and were left out of the maxima, summed over sub-steps),
+///   max_penetration_watched_mm (deepest muscle point below a bone vertex, before the response,
+///   rest overlap left out, max over sub-steps: an independent check of the probes), probes_reseated
+///   (probes moved to uncovered bone vertices inside the muscle, summed over sub-steps), substeps,
 ///   contact_iterations (response iterations, summed), collision_ms (probe carrying, queries and
 ///   response, all sub-steps; NaN without contact_probes).
 /// Frame geometry (--frames-mesh): NAME (surface) and NAME_fibres (fibre polylines, ground, mm).
@@ -94,13 +101,13 @@
 #include <limits>
 #include <memory>
 
+#include "collision/contact_resolver.h"
 #include "dynamics/topology_guard.h"
 #include "framework/component.h"
 
 namespace rbfmuscle {
 
 class MuscleDeformer;
-class ContactResolver;
 class FibreTracker;
 class GaussianField;
 class Skeleton;
@@ -158,6 +165,10 @@ class RBFMuscle final : public Component {
                                         "accepted penetration beyond the rest overlap (mm)", PropertyRange{1e-3, 100.0}};
   Property<int> contact_iterations_cap{this, "contact_max_iterations", 10,
                                        "cap on contact response iterations per (sub-)step", PropertyRange{0, 10000}};
+  Property<int> contact_max_reseats{this, "contact_max_reseats", ContactSettings{}.max_reseats,
+                                    "cap on probes re-seated per (sub-)step at bone vertices inside the muscle that no "
+                                    "probe covers (0 = their depth is reported only)",
+                                    PropertyRange{0, 100000}};
   Property<int> max_substeps{this, "max_substeps", 8, "cap on sub-steps per frame (tunnelling guard)",
                              PropertyRange{1, 1000}};
   BodySocket origin_body{this, "origin_body", "bone of the origin attachment"};
@@ -214,6 +225,13 @@ class RBFMuscle final : public Component {
   Output probes_off_surface{this, "probes_off_surface", "1",
                             "deepest probes left out of max_penetration_mm: off the surface after a second projection",
                             [this] { return result_.probes_off_surface; }};
+  Output max_penetration_watched_mm{this, "max_penetration_watched_mm", "mm",
+                                    "deepest muscle point below a bone vertex inside the muscle, before the response "
+                                    "(rest overlap left out): a check of the probes",
+                                    [this] { return result_.max_penetration_watched_mm; }};
+  Output probes_reseated{this, "probes_reseated", "1",
+                         "probes re-seated at bone vertices inside the muscle that no probe covered (summed over sub-steps)",
+                         [this] { return result_.probes_reseated; }};
   Output substeps{this, "substeps", "1", "sub-steps of this frame (tunnelling guard)", [this] { return result_.substeps; }};
   Output contact_iterations{this, "contact_iterations", "1", "contact response iterations this frame",
                             [this] { return result_.contact_iterations; }};
@@ -260,6 +278,8 @@ class RBFMuscle final : public Component {
     double max_penetration_free_mm = kNaN;    ///< mm
     double contacts = kNaN;
     double probes_off_surface = kNaN;
+    double probes_reseated = kNaN;
+    double max_penetration_watched_mm = kNaN;  ///< mm
     double substeps = kNaN;
     double contact_iterations = kNaN;
     double collision_ms = kNaN;

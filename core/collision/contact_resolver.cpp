@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <fstream>
 #include "collision/surface_probes.h"
+#include "rbf/spatial_grid.h"
 
 namespace rbfmuscle {
 namespace {
@@ -25,6 +26,13 @@ constexpr double kGroupsPerBlock = 4.0;  ///< block edge in group cells: groups 
 constexpr double kOnSurfaceMm = 0.05;
 /// Newton steps of the second projection of a deepest probe left off the surface.
 constexpr int kRescueSteps = 30;
+/// Uncovered contacts: bone vertices are tested within this of a probe near the bone (mm), and
+/// followed into the bone in steps of kSeatStepMm up to kSeatDepthMm to the muscle surface.
+constexpr double kWatchReachMm = 10.0;
+constexpr double kSeatStepMm = 0.25;
+constexpr double kSeatDepthMm = 20.0;
+/// A seat whose nearest probe within this many cover radii is excluded for the bone lies in the rest overlap.
+constexpr double kOverlapReach = 3.0;
 /// A moved centre k marks the probes within √(ln(1e3)/α_k) of it (where φ_k ≥ 1e-3) for re-projection.
 const double kInfluenceLogRatio = std::log(1e3);
 
@@ -41,13 +49,14 @@ void checkSettings(const ContactSettings& s) {
   requirePositive(s.safe_fraction, "safe_fraction");
   requirePositive(s.thickness_step_mm, "thickness_step_mm");
   requirePositive(s.thickness_max_mm, "thickness_max_mm");
+  requirePositive(s.cover_radius_mm, "cover_radius_mm");
   if (!(s.margin_mm >= 0.0)) throw CollisionError("ContactSettings: margin_mm = " + std::to_string(s.margin_mm) + ", expected ≥ 0");
   if (!(s.query_band_mm >= 0.0))
     throw CollisionError("ContactSettings: query_band_mm = " + std::to_string(s.query_band_mm) + ", expected ≥ 0");
-  if (s.max_iterations < 0 || s.newton_steps < 0 || s.max_substeps < 1)
+  if (s.max_iterations < 0 || s.newton_steps < 0 || s.max_substeps < 1 || s.max_reseats < 0)
     throw CollisionError("ContactSettings: max_iterations " + std::to_string(s.max_iterations) + ", newton_steps " +
                          std::to_string(s.newton_steps) + ", max_substeps " + std::to_string(s.max_substeps) +
-                         ": expected ≥ 0, ≥ 0, ≥ 1");
+                         ", max_reseats " + std::to_string(s.max_reseats) + ": expected ≥ 0, ≥ 0, ≥ 1, ≥ 0");
   if (s.thickness_max_mm < s.thickness_step_mm)
     throw CollisionError("ContactSettings: thickness_max_mm < thickness_step_mm");
 }
@@ -105,6 +114,15 @@ ContactResolver::ContactResolver(std::vector<ContactBone> bones, const GaussianF
     set.setBoneTransforms({bone.X_MB_rest});
     bone_sets_.push_back(std::move(set));
     X_MB_prev_.push_back(bone.X_MB_rest);
+  }
+  {
+    std::vector<TriangleMesh> meshes;
+    std::vector<Eigen::Isometry3d> poses;
+    for (const ContactBone& bone : bones_) {
+      meshes.push_back(bone.mesh_B);
+      poses.push_back(bone.X_MB_rest);
+    }
+    watch_ = BoneVertexWatch(meshes, poses, rest_field, 2.0 * settings_.cover_radius_mm);
   }
   probes_M_ = rest_probes_M;
   normal_M_ = Eigen::Matrix3Xd::Zero(3, P);
@@ -217,6 +235,7 @@ const ContactReport& ContactResolver::run(const std::vector<Eigen::Isometry3d>& 
   carried_prev_M_ = carried_M;
   std::fill(moved_.begin(), moved_.end(), false);
   report_ = ContactReport{};
+  watchBoneVertices(measured);
 
   // Measured first as when measuring only (the same contacts and depths with the least work);
   // most frames need no push, and only a response needs the query band's near probes.
@@ -604,6 +623,122 @@ void ContactResolver::addSlack(const GaussianField& field, const std::vector<int
         break;
       }
     }
+  }
+}
+
+void ContactResolver::watchBoneVertices(const GaussianField& field) {
+  const int P = countProbes(), B = countBones();
+  // Only bone vertices within kWatchReachMm of a probe that may be that near the bone can be
+  // inside the muscle (unless a penetration is deeper than that and the muscle twice as thick).
+  inside_.clear();
+  for (int b = 0; b < B; ++b) {
+    const Eigen::Isometry3d X_BM = X_MB_prev_[static_cast<size_t>(b)].inverse();
+    const Eigen::Matrix3Xd& ref = ref_point_B_[static_cast<size_t>(b)];
+    query_points_.resize(3, P);
+    int n = 0;
+    for (int i = 0; i < P; ++i) {
+      const Eigen::Vector3d p_B = X_BM * probes_M_.col(i);
+      if (ref_distance_mm_(i, b) - (p_B - ref.col(i)).norm() <= kWatchReachMm) query_points_.col(n++) = p_B;
+    }
+    watch_.findInside(b, X_MB_prev_[static_cast<size_t>(b)], field, query_points_.leftCols(n), kWatchReachMm, inside_);
+  }
+  if (inside_.empty()) return;
+  // Deepest first: f grows into the muscle, so a larger value is (about) a deeper vertex.
+  std::stable_sort(inside_.begin(), inside_.end(),
+                   [](const BoneVertexInside& a, const BoneVertexInside& b) { return a.value > b.value; });
+  const double cover2 = settings_.cover_radius_mm * settings_.cover_radius_mm;
+  const SpatialGrid probe_grid(probes_M_, settings_.cover_radius_mm);
+  std::vector<int> near;
+  std::vector<bool> taken(static_cast<size_t>(P), false);
+  std::vector<Eigen::Vector3d> seats;
+  std::vector<std::vector<int>> seated(static_cast<size_t>(B));
+  std::vector<std::pair<double, int>> found;  // (depth along the normal, index into inside_)
+  std::vector<Eigen::Vector3d> found_points;
+  ActiveCentres active;
+  for (size_t h = 0; h < inside_.size(); ++h) {
+    const BoneVertexInside& hit = inside_[h];
+    const int b = hit.bone;
+    const auto watches = [&](int j) { return std::isfinite(allowance_mm_(j, b)); };
+    const double depth = marchToSurface(field, hit.vertex_M, hit.inward_M, kSeatStepMm, kSeatDepthMm);
+    if (depth >= kSeatDepthMm) continue;  // no surface found below: not a penetration to seat at
+    // Judged at the surface point below the vertex (a probe near the vertex itself may lie
+    // where the surfaces cross, and see no depth), among the probes before this call's moves:
+    // in the rest overlap (left alone, as the allowances do) when the nearest probe is one
+    // excluded for the bone; covered by a near probe that watches the bone and already
+    // measured about this depth (else that probe moves to the seat).
+    const Eigen::Vector3d seat = hit.vertex_M + depth * hit.inward_M;
+    probe_grid.findWithinRadius(seat, kOverlapReach * settings_.cover_radius_mm, near);
+    int closest = -1, near_watching = -1;
+    double closest2 = std::numeric_limits<double>::infinity(), watching2 = closest2;
+    bool covered = false;
+    for (int j : near) {
+      if (taken[static_cast<size_t>(j)]) continue;
+      const double d2 = (probes_M_.col(j) - seat).squaredNorm();
+      if (d2 < closest2) {
+        closest2 = d2;
+        closest = j;
+      }
+      if (!watches(j) || d2 > cover2) continue;
+      covered = covered || -ref_distance_mm_(j, b) >= depth - 0.5 * settings_.tolerance_mm;
+      if (d2 < watching2) {
+        watching2 = d2;
+        near_watching = j;
+      }
+    }
+    if (closest >= 0 && !watches(closest)) continue;
+    found.push_back({depth, static_cast<int>(h)});
+    found_points.push_back(seat);
+    if (settings_.max_reseats == 0 || !(depth > settings_.tolerance_mm) || covered) continue;
+    for (const Eigen::Vector3d& v : seats) covered = covered || (v - seat).squaredNorm() <= cover2;
+    if (covered) continue;
+    const double share = calcFreeShare(field, seat, active);
+    if (share < 0.5) continue;  // attached surface: a push cannot move it
+    // A near probe that saw less moves to the seat; else the nearest probe watching the bone
+    // and not in contact leaves its place.
+    int nearest = near_watching;
+    double best = std::numeric_limits<double>::infinity();
+    for (int j = 0; j < P && near_watching < 0; ++j) {
+      if (taken[static_cast<size_t>(j)] || !watches(j) || excess_mm_(j) > 0.0) continue;
+      const double d2 = (probes_M_.col(j) - seat).squaredNorm();
+      if (d2 < best) {
+        best = d2;
+        nearest = j;
+      }
+    }
+    if (report_.probes_reseated >= settings_.max_reseats || nearest < 0) {
+      ++report_.uncovered_left;
+      continue;
+    }
+    taken[static_cast<size_t>(nearest)] = true;
+    seats.push_back(seat);
+    probes_M_.col(nearest) = seat;
+    Eigen::Vector3d gradient;
+    calcValueAndGradient(field, seat, gradient);
+    setNormal(nearest, gradient);
+    slack_mm_(nearest) = 0.0;
+    free_share_(nearest) = share;
+    thickness_mm_(nearest) = calcLocalThickness(field, seat, settings_.thickness_step_mm, settings_.thickness_max_mm);
+    for (int c = 0; c < B; ++c)
+      if (std::isfinite(allowance_mm_(nearest, c))) seated[static_cast<size_t>(c)].push_back(nearest);
+    ++report_.probes_reseated;
+  }
+  // Their references are where they now are.
+  const double radius = settings_.query_band_mm + settings_.newton_steps * settings_.newton_step_cap_mm + kLowerBoundReachMm;
+  for (int c = 0; c < B; ++c)
+    if (!seated[static_cast<size_t>(c)].empty())
+      queryReferences(c, seated[static_cast<size_t>(c)], radius, X_MB_prev_[static_cast<size_t>(c)].inverse());
+  // The deepest of the points found, exactly: |s| ≤ the depth along the normal (the vertex is on
+  // the bone), so in order of that depth until it is no more than the best exact depth.
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<ContactQueryResult> answer;
+  for (const auto& [depth, h] : found) {
+    if (depth <= report_.max_penetration_watched_mm) break;
+    const int b = inside_[static_cast<size_t>(h)].bone;
+    query_points_.resize(3, 1);
+    query_points_.col(0) = inside_[static_cast<size_t>(h)].vertex_M + depth * inside_[static_cast<size_t>(h)].inward_M;
+    bone_sets_[static_cast<size_t>(b)].queryProbes(query_points_, depth + 1.0, answer);
+    ++report_.probe_queries;
+    if (answer[0].bone >= 0) report_.max_penetration_watched_mm = std::max(report_.max_penetration_watched_mm, -answer[0].signed_distance_mm);
   }
 }
 

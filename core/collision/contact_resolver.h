@@ -16,6 +16,7 @@
 #include <Eigen/Geometry>
 
 #include "collision/bone_set.h"
+#include "collision/bone_vertex_watch.h"
 #include "geometry/triangle_mesh.h"
 #include "rbf/gaussian_field.h"
 
@@ -63,6 +64,14 @@ struct ContactSettings {
   int max_substeps = 16;            ///< cap on sub-steps per frame
   double thickness_step_mm = 0.5;   ///< marching step of the rest thickness (mm)
   double thickness_max_mm = 80.0;   ///< thickness assumed where the march finds no far side (mm)
+  /// Uncovered contacts (class comment): a watched bone vertex inside the muscle, whose muscle
+  /// surface lies more than tolerance_mm inside the bone below it, is covered when a probe that
+  /// watches that bone is within this distance (mm); else a probe is re-seated there.
+  double cover_radius_mm = 2.0;
+  /// Cap on probes re-seated per resolve call. 0 (default): the bone vertices are watched and
+  /// their depth reported, but no probe moves (class comment: on the hip the late pushes made
+  /// surface jumps and fibre-length steps).
+  int max_reseats = 0;
 };
 
 /// Why ContactResolver::resolve stopped.
@@ -91,6 +100,14 @@ struct ContactReport {
   long long probe_queries = 0;  ///< exact (probe, bone) distance queries over all measurements
   long long projections = 0;    ///< probe projections onto f = 0 over all measurements
   int moved_centres = 0;        ///< distinct free centres moved
+  /// Deepest muscle point found below a watched bone vertex, before the response: its exact
+  /// depth inside that bone (mm, 0 when none; rest overlap left out; class comment, Uncovered
+  /// contacts). An independent check of the probes, which can drift away from a contact.
+  double max_penetration_watched_mm = 0.0;
+  /// Probes re-seated at uncovered contacts (class comment) before the first measurement.
+  int probes_reseated = 0;
+  /// Uncovered contacts left without a probe because max_reseats was reached or no probe was free.
+  int uncovered_left = 0;
   /// At the first measurement (made as when measuring only, also with the response on): probes
   /// that were the deepest left but stayed off the surface after a second, longer projection,
   /// and so were left out of the maxima (their depth is not the surface's; class comment,
@@ -200,6 +217,25 @@ struct ContactReport {
 /// in the main job into two, where the femoral head slides under the muscle. The caller
 /// interpolates the poses (interpolateScrew) and calls resolve per sub-step.
 ///
+/// **Uncovered contacts.** Probes drift along the surface (above), and the iliacus of the main
+/// job went 5.1 mm into the femur in frames where no probe was left within 5 mm (the probes
+/// reported ≤ 0.5 mm). So the bones' own vertices are watched too (BoneVertexWatch: about one
+/// per 2·cover_radius_mm cell, those outside the rest muscle). Before measuring, the watched
+/// vertices within 10 mm of a probe that may be within 10 mm of the bone are tested; from each
+/// one inside the muscle (f > 0), deepest (largest f) first, the muscle surface is followed into
+/// the bone along its inward normal (marchToSurface). Where the nearest probe within
+/// 3·cover_radius_mm of that point is one excluded for the bone, it is the rest overlap and
+/// is left alone, as the allowances leave it; the others give max_penetration_watched_mm
+/// (their exact depths, deepest first until the depth along the normal, a bound, is below the
+/// best). With max_reseats > 0 such a point more than tolerance_mm deep, made mostly by free
+/// centres, also gets a probe unless one that watches the bone is within cover_radius_mm and
+/// measured at least its depth − tolerance/2: that near probe, else the nearest watching probe
+/// not in contact, is re-seated there (its thickness and free share taken there), and the push
+/// sees the penetration like any other. Off by default: on the hip the penetrations it finds
+/// appear a few mm deep within one frame (the volume step bulges the muscle into the femur),
+/// and pushing them out at once made surface jumps and fibre-length steps beyond issue 4's
+/// and 6's bounds (figures in models/hip/README.md, "Contacts").
+///
 /// Limits: penetration is measured at the probes (a sharp bone edge between probes is not
 /// seen); a probe whose surface point is more than the projection travel from where it
 /// starts is left where the travel ends. Measured on the hip: see models/hip/README.md
@@ -253,9 +289,9 @@ class ContactResolver {
   const Eigen::MatrixXd& getAllowances() const { return allowance_mm_; }
   /// Number of (probe, bone) pairs excluded as rest overlap.
   int countExcludedPairs() const { return static_cast<int>((rest_distance_mm_.array() < 0.0).count()); }
-  /// Free share at each probe at rest (P): Σ_free |λ_k φ_k(p_i)| / Σ_all |λ_k φ_k(p_i)|.
+  /// Free share at each probe at rest, or where it was last re-seated (P): Σ_free |λ_k φ_k(p_i)| / Σ_all |λ_k φ_k(p_i)|.
   const Eigen::VectorXd& getFreeShares() const { return free_share_; }
-  /// Rest thickness t_i at each probe (P, mm).
+  /// Rest thickness t_i at each probe, or the thickness where it was last re-seated (P, mm).
   const Eigen::VectorXd& getThickness() const { return thickness_mm_; }
   /// The last report.
   const ContactReport& getReport() const { return report_; }
@@ -289,6 +325,9 @@ class ContactResolver {
   /// M in B), within radius_mm: they become the probes' references (ref_*); query_out_ holds
   /// the answers in list order.
   void queryReferences(int b, const std::vector<int>& probes, double radius_mm, const Eigen::Isometry3d& X_BM);
+  /// Tests the watched bone vertices against `field`: the report's max_penetration_watched_mm,
+  /// and probes re-seated at uncovered contacts (class comment, Uncovered contacts).
+  void watchBoneVertices(const GaussianField& field);
   /// One minimum-norm response step; @return false when no free centre acts on the rows.
   bool respondOnce(GaussianField& field, double step_limit_mm);
   /// Adds `longest_mm` (the longest centre move) to the slack of the probes within the
@@ -298,6 +337,7 @@ class ContactResolver {
 
   std::vector<ContactBone> bones_;
   std::vector<BoneSet> bone_sets_;  ///< one bone each: per-bone signed distances
+  BoneVertexWatch watch_;           ///< the bones' vertices outside the rest muscle
   std::vector<bool> free_centres_;
   ContactSettings settings_;
   Eigen::Matrix3Xd probes_M_;        ///< p_i, current
@@ -331,6 +371,7 @@ class ContactResolver {
   std::vector<int> active_;  ///< probes beyond their allowance (response)
   std::vector<int> rows_;    ///< one active probe per cluster of radius L (response)
   std::vector<int> near_;    ///< probes near contact, candidates for rows (response)
+  std::vector<BoneVertexInside> inside_;  ///< watched bone vertices inside the muscle (re-seating)
   Eigen::MatrixXd psi_;      ///< N×rows push kernel ψ_k(p_b) (response)
   Eigen::Matrix3Xd best_centres_;  ///< centres of the best iterate (response)
   Eigen::Matrix3Xd best_probes_;   ///< probes of the best iterate (response)

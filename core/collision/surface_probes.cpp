@@ -131,27 +131,34 @@ double LocalFieldEvaluator::operator()(const Eigen::Vector3d& x_mm, Eigen::Vecto
   return f;
 }
 
-double calcLocalThickness(const GaussianField& field, const Eigen::Vector3d& p_mm, double step_mm, double max_mm) {
+double marchToSurface(const GaussianField& field, const Eigen::Vector3d& start_mm, const Eigen::Vector3d& direction,
+                      double step_mm, double max_mm) {
   if (!(step_mm > 0.0) || !(max_mm >= step_mm))
-    throw std::invalid_argument("calcLocalThickness: step " + std::to_string(step_mm) + " mm, max " +
+    throw std::invalid_argument("marchToSurface: step " + std::to_string(step_mm) + " mm, max " +
                                 std::to_string(max_mm) + " mm; expected 0 < step ≤ max");
-  const Eigen::Vector3d g = field.calcGradient(p_mm);
-  if (!(g.squaredNorm() > 1e-24)) return max_mm;
-  const Eigen::Vector3d u = g.normalized();
   double inside = 0.0;  // last distance with f > 0 (or the start)
   for (double t = step_mm; t <= max_mm; t += step_mm) {
-    if (field.calcValue(p_mm + t * u) > 0.0) {
+    if (field.calcValue(start_mm + t * direction) > 0.0) {
       inside = t;
       continue;
     }
     double a = inside, b = t;  // f(a) > 0 (or a = 0), f(b) ≤ 0
     for (int k = 0; k < 20; ++k) {
       const double m = 0.5 * (a + b);
-      (field.calcValue(p_mm + m * u) > 0.0 ? a : b) = m;
+      (field.calcValue(start_mm + m * direction) > 0.0 ? a : b) = m;
     }
     return b;
   }
   return max_mm;
+}
+
+double calcLocalThickness(const GaussianField& field, const Eigen::Vector3d& p_mm, double step_mm, double max_mm) {
+  if (!(step_mm > 0.0) || !(max_mm >= step_mm))
+    throw std::invalid_argument("calcLocalThickness: step " + std::to_string(step_mm) + " mm, max " +
+                                std::to_string(max_mm) + " mm; expected 0 < step ≤ max");
+  const Eigen::Vector3d g = field.calcGradient(p_mm);
+  if (!(g.squaredNorm() > 1e-24)) return max_mm;
+  return marchToSurface(field, p_mm, g.normalized(), step_mm, max_mm);
 }
 
 }  // namespace rbfmuscle

@@ -85,6 +85,13 @@ class LocalFieldEvaluator {
   std::vector<Centre> centres_;
 };
 
+/// Distance (mm) from `start_mm` along the unit `direction` to the first point where f ≤ 0:
+/// marched in steps of `step_mm`, the last step bisected (20 halvings); `max_mm` when f stays
+/// positive that far. A start with f ≤ 0 gives the first step's bisection, near 0.
+/// @throws std::invalid_argument if step_mm ≤ 0 or max_mm < step_mm.
+double marchToSurface(const GaussianField& field, const Eigen::Vector3d& start_mm, const Eigen::Vector3d& direction,
+                      double step_mm, double max_mm);
+
 /// Local muscle thickness (mm) at a surface point p (f(p) ≈ 0): the distance from p along
 /// the inward normal u = ∇f/‖∇f‖ to the first point where f becomes ≤ 0 again, found by
 /// marching in steps of `step_mm` and bisecting the last step; `max_mm` when f stays

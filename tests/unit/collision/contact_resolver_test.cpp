@@ -304,10 +304,86 @@ TEST(ContactResolver, ProbesClearOfABoneSlidingPastAreRequeriedNotProjected) {
   EXPECT_GT(queries, 0);  // the references were refreshed
 }
 
+/// The free sphere's probes below y = 5 mm only and all of the attached sphere's: no probe on
+/// the free sphere's top cap (radius 8.7 mm), the nearest 10 mm from its top point.
+Eigen::Matrix3Xd makeProbesWithoutTop(int n) {
+  const Eigen::Matrix3Xd all = makeProbes(n);
+  std::vector<int> keep;
+  for (int i = 0; i < all.cols(); ++i)
+    if (i >= n || all(1, i) < 5.0) keep.push_back(i);
+  Eigen::Matrix3Xd out(3, static_cast<Eigen::Index>(keep.size()));
+  for (size_t k = 0; k < keep.size(); ++k) out.col(static_cast<Eigen::Index>(k)) = all.col(keep[k]);
+  return out;
+}
+
+/// Deepest bone vertex inside `field`: the distance from it along the bone's inward normal
+/// (the icosphere's, towards its centre c) to the muscle surface (mm; 0 when none is inside).
+double calcDeepestVertexDepth(const GaussianField& field, const TriangleMesh& sphere, const Eigen::Vector3d& c) {
+  double deepest = 0.0;
+  for (int v = 0; v < sphere.countVertices(); ++v) {
+    const Eigen::Vector3d p = c + sphere.vertices_mm.col(v);
+    if (field.calcValue(p) > 0.0)
+      deepest = std::max(deepest, marchToSurface(field, p, (c - p).normalized(), 0.05, 20.0));
+  }
+  return deepest;
+}
+
+TEST(ContactResolver, BoneVerticesInsideTheMuscleWhereNoProbeIsAreMeasuredAndGetAProbe) {
+  // A round bone (radius 20 mm) comes down 3 mm into the top of the free sphere, where there
+  // is no probe: the probes see nothing, the watched bone vertices measure the 3 mm; with
+  // re-seating on, a probe is moved to the muscle surface below them and the push clears it.
+  const TriangleMesh bone = test::makeIcosphere(20.0, 4);
+  const Eigen::Vector3d down(0.0, kRadius + 20.0 - 3.0, 0.0);
+  const std::vector<Eigen::Isometry3d> pose = {translationY(down.y())};
+  const Eigen::Matrix3Xd probes = makeProbesWithoutTop(300);
+  GaussianField field = makeTwoSpheres();
+  ContactResolver measuring({ContactBone{"bone", bone, translationY(100.0)}}, field, probes, {true, false});
+  const ContactReport& seen = measuring.resolve(pose, probes, field, true);
+  EXPECT_EQ(seen.contacts, 0);
+  EXPECT_EQ(seen.probes_reseated, 0);
+  EXPECT_EQ(seen.moved_centres, 0);
+  EXPECT_NEAR(seen.max_penetration_watched_mm, 3.0, 0.05);
+  EXPECT_NEAR(calcDeepestVertexDepth(field, bone, down), 3.0, 0.05);  // an independent look
+
+  ContactSettings reseating;
+  reseating.max_reseats = 32;
+  ContactResolver watching({ContactBone{"bone", bone, translationY(100.0)}}, field, probes, {true, false}, reseating);
+  const ContactReport& measured = watching.measureOnly(pose, probes, field);
+  EXPECT_GE(measured.probes_reseated, 1);
+  EXPECT_NEAR(measured.max_penetration_mm, 3.0, 0.1);
+  const ContactReport& pushed = watching.resolve(pose, probes, field, true);
+  EXPECT_EQ(pushed.stop, ContactStop::kWithinTolerance);
+  EXPECT_LE(pushed.max_penetration_mm, 0.5);
+  EXPECT_LE(watching.measureOnly(pose, probes, field).max_penetration_watched_mm, 0.5 + 0.1);  // after the push
+  EXPECT_LE(calcDeepestVertexDepth(field, bone, down), 0.5 + 0.1);
+  EXPECT_LT(field.getCentres()(1, 0), -2.0);  // the sphere moved down, away from the bone
+}
+
+TEST(ContactResolver, BoneOverlappingTheMuscleAtRestIsNotWatchedThere) {
+  // The same bone 3 mm into the sphere already at rest: its vertices inside the rest muscle
+  // are not watched and the overlap is kept, as the probes' allowances keep it.
+  const TriangleMesh bone = test::makeIcosphere(20.0, 4);
+  const Eigen::Isometry3d overlap = translationY(kRadius + 20.0 - 3.0);
+  GaussianField field = makeTwoSpheres();
+  const Eigen::Matrix3Xd probes = makeProbesWithoutTop(300);
+  ContactSettings reseating;
+  reseating.max_reseats = 32;
+  ContactResolver resolver({ContactBone{"bone", bone, overlap}}, field, probes, {true, false}, reseating);
+  const ContactReport& r = resolver.resolve({overlap}, probes, field, true);
+  EXPECT_EQ(r.max_penetration_watched_mm, 0.0);
+  EXPECT_EQ(r.probes_reseated, 0);
+  EXPECT_EQ(r.moved_centres, 0);
+}
+
 TEST(ContactResolver, BadInputNamesTheFault) {
   const GaussianField field = makeTwoSpheres();
   ContactSettings settings;
   settings.tolerance_mm = -1.0;
+  ContactSettings no_cover;
+  no_cover.cover_radius_mm = 0.0;
+  EXPECT_THROW(ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10),
+                               {true, false}, no_cover),
+               CollisionError);
   try {
     ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10), {true, false},
                     settings);
