@@ -40,8 +40,6 @@ class BoneVertexWatch {
 
   /// Number of bones.
   int countBones() const { return static_cast<int>(vertices_B_.size()); }
-  /// Watched vertices of bone b (B, mm).
-  const Eigen::Matrix3Xd& getWatched(int b) const { return vertices_B_[static_cast<size_t>(b)]; }
 
   /// Appends to `out` the watched vertices of bone b within `radius_mm` of any of `near_B`
   /// (3×n, B) that lie inside `field` (f > 0) with the bone posed by X_MB, in vertex order.

@@ -652,11 +652,14 @@ void ContactResolver::watchBoneVertices(const GaussianField& field) {
   std::vector<bool> taken(static_cast<size_t>(P), false);
   std::vector<Eigen::Vector3d> seats;
   std::vector<std::vector<int>> seated(static_cast<size_t>(B));
-  std::vector<std::pair<double, int>> found;  // (depth along the normal, index into inside_)
-  std::vector<Eigen::Vector3d> found_points;
+  struct Found {
+    double depth_mm;  ///< along the vertex's inward normal: ≥ the point's depth in the bone
+    int bone;
+    Eigen::Vector3d point_M;
+  };
+  std::vector<Found> found;
   ActiveCentres active;
-  for (size_t h = 0; h < inside_.size(); ++h) {
-    const BoneVertexInside& hit = inside_[h];
+  for (const BoneVertexInside& hit : inside_) {
     const int b = hit.bone;
     const auto watches = [&](int j) { return std::isfinite(allowance_mm_(j, b)); };
     const double depth = marchToSurface(field, hit.vertex_M, hit.inward_M, kSeatStepMm, kSeatDepthMm);
@@ -686,8 +689,7 @@ void ContactResolver::watchBoneVertices(const GaussianField& field) {
       }
     }
     if (closest >= 0 && !watches(closest)) continue;
-    found.push_back({depth, static_cast<int>(h)});
-    found_points.push_back(seat);
+    found.push_back({depth, b, seat});
     if (settings_.max_reseats == 0 || !(depth > settings_.tolerance_mm) || covered) continue;
     for (const Eigen::Vector3d& v : seats) covered = covered || (v - seat).squaredNorm() <= cover2;
     if (covered) continue;
@@ -729,16 +731,16 @@ void ContactResolver::watchBoneVertices(const GaussianField& field) {
       queryReferences(c, seated[static_cast<size_t>(c)], radius, X_MB_prev_[static_cast<size_t>(c)].inverse());
   // The deepest of the points found, exactly: |s| ≤ the depth along the normal (the vertex is on
   // the bone), so in order of that depth until it is no more than the best exact depth.
-  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::sort(found.begin(), found.end(), [](const Found& a, const Found& b) { return a.depth_mm > b.depth_mm; });
   std::vector<ContactQueryResult> answer;
-  for (const auto& [depth, h] : found) {
-    if (depth <= report_.max_penetration_watched_mm) break;
-    const int b = inside_[static_cast<size_t>(h)].bone;
-    query_points_.resize(3, 1);
-    query_points_.col(0) = inside_[static_cast<size_t>(h)].vertex_M + depth * inside_[static_cast<size_t>(h)].inward_M;
-    bone_sets_[static_cast<size_t>(b)].queryProbes(query_points_, depth + 1.0, answer);
+  query_points_.resize(3, 1);
+  for (const Found& f : found) {
+    if (f.depth_mm <= report_.max_penetration_watched_mm) break;
+    query_points_.col(0) = f.point_M;
+    bone_sets_[static_cast<size_t>(f.bone)].queryProbes(query_points_, f.depth_mm + 1.0, answer);
     ++report_.probe_queries;
-    if (answer[0].bone >= 0) report_.max_penetration_watched_mm = std::max(report_.max_penetration_watched_mm, -answer[0].signed_distance_mm);
+    if (answer[0].bone >= 0)
+      report_.max_penetration_watched_mm = std::max(report_.max_penetration_watched_mm, -answer[0].signed_distance_mm);
   }
 }
 
