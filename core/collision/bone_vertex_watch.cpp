@@ -70,10 +70,15 @@ void BoneVertexWatch::findInside(int b, const Eigen::Isometry3d& X_MB, const Gau
     }
   }
   std::sort(tested.begin(), tested.end());
-  for (int v : tested) {
-    const Eigen::Vector3d p_M = X_MB * Eigen::Vector3d(vertices.col(v));
-    const double f = field.calcValue(p_M);
-    if (f > 0.0) out.push_back({b, p_M, X_MB.linear() * inward_B_[static_cast<size_t>(b)].col(v), f});
+  const int n = static_cast<int>(tested.size());
+  values_.resize(n);
+#pragma omp parallel for schedule(static)
+  for (int t = 0; t < n; ++t)  // independent per vertex: the same values on any number of threads
+    values_(t) = field.calcValue(X_MB * Eigen::Vector3d(vertices.col(tested[static_cast<size_t>(t)])));
+  for (int t = 0; t < n; ++t) {
+    if (!(values_(t) > 0.0)) continue;
+    const int v = tested[static_cast<size_t>(t)];
+    out.push_back({b, X_MB * Eigen::Vector3d(vertices.col(v)), X_MB.linear() * inward_B_[static_cast<size_t>(b)].col(v), values_(t)});
   }
 }
 

@@ -53,6 +53,7 @@ class BoneVertexWatch {
   std::vector<int> stamp_;                    ///< per vertex, the last call that tested it
   int calls_ = 0;
   std::vector<int> found_;
+  Eigen::VectorXd values_;  ///< f at the tested vertices (scratch)
 };
 
 }  // namespace rbfmuscle
