@@ -64,9 +64,9 @@ struct ContactSettings {
   int max_substeps = 16;            ///< cap on sub-steps per frame
   double thickness_step_mm = 0.5;   ///< marching step of the rest thickness (mm)
   double thickness_max_mm = 80.0;   ///< thickness assumed where the march finds no far side (mm)
-  /// Uncovered contacts (class comment): a watched bone vertex inside the muscle, whose muscle
-  /// surface lies more than tolerance_mm inside the bone below it, is covered when a probe that
-  /// watches that bone is within this distance (mm); else a probe is re-seated there.
+  /// Uncovered contacts (class comment): the muscle surface point below a watched bone vertex
+  /// is covered by a probe that watches that bone within this distance (mm); the watched
+  /// vertices are spread at twice it.
   double cover_radius_mm = 2.0;
   /// Cap on probes re-seated per resolve call. 0 (default): the bone vertices are watched and
   /// their depth reported, but no probe moves (class comment: on the hip the late pushes made
