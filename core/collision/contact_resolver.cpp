@@ -170,12 +170,11 @@ int ContactResolver::calcSubsteps(const std::vector<Eigen::Isometry3d>& X_MB, co
   for (int b = 0; b < countBones(); ++b) {
     const Eigen::Isometry3d X_BM_now = X_MB[static_cast<size_t>(b)].inverse();
     const Eigen::Isometry3d X_BM_prev = X_MB_prev_[static_cast<size_t>(b)].inverse();
-    const Eigen::Matrix3Xd& ref = ref_point_B_[static_cast<size_t>(b)];
     for (int i = 0; i < countProbes(); ++i) {
       const Eigen::Vector3d p_prev_B = X_BM_prev * probes_M_.col(i);
       const Eigen::Vector3d x = calcStartPoint(i, carried_M);
       const Eigen::Vector3d move_B = X_BM_now * x - p_prev_B;
-      const double bound_prev = ref_distance_mm_(i, b) - (p_prev_B - ref.col(i)).norm();
+      const double bound_prev = calcLowerBound(i, b, p_prev_B);
       if (!(bound_prev + allowance_mm_(i, b) < move_B.norm())) continue;
       // Only the move through the muscle, along its normal, can carry a bone point across its
       // thickness; sliding along the surface cannot (class comment, Tunnelling guard).
@@ -334,7 +333,7 @@ Eigen::Vector3d ContactResolver::calcStartPoint(int i, const Eigen::Matrix3Xd& c
 double ContactResolver::measure(const GaussianField& field, bool measure_only) {
   const int P = countProbes(), B = countBones();
   const double travel = settings_.newton_steps * settings_.newton_step_cap_mm;
-  const double radius = settings_.query_band_mm + travel + kLowerBoundReachMm;
+  const double radius = calcQueryRadius();
   constexpr double kInf = std::numeric_limits<double>::infinity();
   excess_mm_.setConstant(-kInf);
   std::vector<Eigen::Isometry3d> X_BM(static_cast<size_t>(B));
@@ -582,6 +581,14 @@ void ContactResolver::projectListed(const GaussianField& field) {
   }
 }
 
+double ContactResolver::calcQueryRadius() const {
+  return settings_.query_band_mm + settings_.newton_steps * settings_.newton_step_cap_mm + kLowerBoundReachMm;
+}
+
+double ContactResolver::calcLowerBound(int i, int b, const Eigen::Vector3d& p_B) const {
+  return ref_distance_mm_(i, b) - (p_B - ref_point_B_[static_cast<size_t>(b)].col(i)).norm();
+}
+
 int ContactResolver::countNewtonSteps(int i) const {
   return settings_.newton_steps + static_cast<int>(std::ceil(slack_mm_(i) / settings_.newton_step_cap_mm));
 }
@@ -633,12 +640,11 @@ void ContactResolver::watchBoneVertices(const GaussianField& field) {
   inside_.clear();
   for (int b = 0; b < B; ++b) {
     const Eigen::Isometry3d X_BM = X_MB_prev_[static_cast<size_t>(b)].inverse();
-    const Eigen::Matrix3Xd& ref = ref_point_B_[static_cast<size_t>(b)];
     query_points_.resize(3, P);
     int n = 0;
     for (int i = 0; i < P; ++i) {
       const Eigen::Vector3d p_B = X_BM * probes_M_.col(i);
-      if (ref_distance_mm_(i, b) - (p_B - ref.col(i)).norm() <= kWatchReachMm) query_points_.col(n++) = p_B;
+      if (calcLowerBound(i, b, p_B) <= kWatchReachMm) query_points_.col(n++) = p_B;
     }
     watch_.findInside(b, X_MB_prev_[static_cast<size_t>(b)], field, query_points_.leftCols(n), kWatchReachMm, inside_);
   }
@@ -725,7 +731,7 @@ void ContactResolver::watchBoneVertices(const GaussianField& field) {
     ++report_.probes_reseated;
   }
   // Their references are where they now are.
-  const double radius = settings_.query_band_mm + settings_.newton_steps * settings_.newton_step_cap_mm + kLowerBoundReachMm;
+  const double radius = calcQueryRadius();
   for (int c = 0; c < B; ++c)
     if (!seated[static_cast<size_t>(c)].empty())
       queryReferences(c, seated[static_cast<size_t>(c)], radius, X_MB_prev_[static_cast<size_t>(c)].inverse());

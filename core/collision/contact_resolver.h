@@ -317,6 +317,12 @@ class ContactResolver {
   /// `measure_only`: no query band, and pairs certainly inside are not queried unless they may
   /// hold the deepest probe (the contact count and the depths reported are the same).
   double measure(const GaussianField& field, bool measure_only = false);
+  /// Radius of the exact queries (mm): the query band, the projection's travel and the extra
+  /// reach that gives far probes a useful lower bound.
+  double calcQueryRadius() const;
+  /// Certified lower bound of probe i's signed distance to bone b where it is now, p_B in B
+  /// (s is 1-Lipschitz: its last exact reference minus how far it has moved since).
+  double calcLowerBound(int i, int b, const Eigen::Vector3d& p_B) const;
   /// Newton steps of probe i's next projection: newton_steps plus its slack in steps of the cap.
   int countNewtonSteps(int i) const;
   /// Projects the probes of project_index_ onto f = 0 of `field` (their normals too; slack cleared).
@@ -371,7 +377,7 @@ class ContactResolver {
   std::vector<int> active_;  ///< probes beyond their allowance (response)
   std::vector<int> rows_;    ///< one active probe per cluster of radius L (response)
   std::vector<int> near_;    ///< probes near contact, candidates for rows (response)
-  std::vector<BoneVertexInside> inside_;  ///< watched bone vertices inside the muscle (re-seating)
+  std::vector<BoneVertexInside> inside_;  ///< watched bone vertices inside the muscle (watchBoneVertices)
   Eigen::MatrixXd psi_;      ///< N×rows push kernel ψ_k(p_b) (response)
   Eigen::Matrix3Xd best_centres_;  ///< centres of the best iterate (response)
   Eigen::Matrix3Xd best_probes_;   ///< probes of the best iterate (response)
