@@ -178,6 +178,8 @@ void RBFMuscle::initialize(const InitContext& context) {
   settings.volume.enabled = keep_volume.get();
   settings.volume.tolerance = volume_tolerance.get();
   settings.topology.neck_level = neck_level.get();
+  settings.step_limit.max_step_mm = max_surface_step_mm.get();
+  settings.step_limit.cell_mm = surface_cell_mm.get();
   deformer_ = std::make_unique<MuscleDeformer>(field, attachments, settings);
   initializeFibres(skeleton, field, attachments, settings.blend_length_mm);
   initializeContacts(skeleton);
@@ -293,6 +295,7 @@ void RBFMuscle::update(const FrameState& state) {
   }
   result_.substeps = steps;
   double descent_ms = 0.0, predict_ms = 0.0, volume_ms = 0.0, guard_ms = 0.0, islands = 0.0;
+  double step_excess_mm = 0.0, step_scale = 1.0;
   for (int s = 1; s <= steps; ++s) {
     if (s == steps) {
       step(bone_motion_M_, X_MB_, carried && steps == 1);
@@ -312,6 +315,8 @@ void RBFMuscle::update(const FrameState& state) {
     volume_ms += sub.volume_ms;
     guard_ms += sub.topology_ms;
     islands += sub.islands_found;
+    step_excess_mm = std::max(step_excess_mm, sub.step_limit.full_excess_mm);
+    step_scale = std::min(step_scale, sub.step_limit.scale);
   }
   previous_motion_M_ = bone_motion_M_;
   previous_X_MB_ = X_MB_;
@@ -327,6 +332,8 @@ void RBFMuscle::update(const FrameState& state) {
   result_.guard_ms = guard_ms;
   result_.islands_removed = islands;
   result_.islands_left = r.islands_left;
+  result_.step_excess_mm = step_excess_mm;
+  result_.step_scale = step_scale;
   if (fibre_tracker_) {
     const FibreFrame& f = fibre_tracker_->update(deformer_->getField(), bone_motion_M_);
     result_.fiber_lengths_mm = f.lengths_mm;

@@ -63,6 +63,11 @@
 ///                                         deep, with no probe near (0: measured only, output
 ///                                         max_penetration_watched_mm; contact_resolver.h)
 ///   max_substeps (int, 8)                 cap on sub-steps per frame of the tunnelling guard
+///   max_surface_step_mm (double, 0)       no surface point may end further from the previous frame's
+///                                         surface than the bones move there plus this (mm; 0 = off;
+///                                         the frame's correction is taken back part of the way,
+///                                         core/dynamics/surface_step_limiter.h; outputs step_excess_mm,
+///                                         step_scale)
 ///   Contacts (core/collision/contact_resolver.h): each probe may stay as deep inside a bone as
 ///   it was at rest (documented rest overlap: the pelvis proxy overlaps the iliacus by up to
 ///   8 mm), only the excess counts and is resolved; a frame in which a bone point near the muscle
@@ -75,7 +80,8 @@
 ///   socket_origin_body, socket_insertion_body: the bones
 /// Outputs: volume_mm3, volume_ratio, volume_correction (δ, volume_keeper.h), curvature_cost, iterations (descent),
 ///   update_ms, and of it predict_ms, descent_ms, volume_ms, guard_ms (summed over sub-steps);
-///   islands_removed, islands_left (topology guard, core/dynamics/topology_guard.h); attached_centres;
+///   islands_removed, islands_left (topology guard, core/dynamics/topology_guard.h); step_excess_mm,
+///   step_scale (step limit, core/dynamics/surface_step_limiter.h); attached_centres;
 ///   fiber_length_mm (vector, one per fibre, columns fiber_length_mm_i), fiber_length_mean_mm,
 ///   fiber_length_min_mm, fiber_length_max_mm, fiber_length_normalised (mean / rest mean),
 ///   fiber_projections (fibre points, ends included, pushed back inside this frame; core/fibres/fibre_tracker.h),
@@ -102,6 +108,7 @@
 #include <memory>
 
 #include "collision/contact_resolver.h"
+#include "dynamics/surface_step_limiter.h"
 #include "dynamics/topology_guard.h"
 #include "framework/component.h"
 
@@ -149,6 +156,10 @@ class RBFMuscle final : public Component {
   Property<double> neck_level{this, "neck_level", TopologySettings{}.neck_level,
                               "f below which the island guard raises a thinning neck (field unit, 0 = off)",
                               PropertyRange{0.0, 10.0}};
+  Property<double> max_surface_step_mm{this, "max_surface_step_mm", StepLimitSettings{}.max_step_mm,
+                                       "largest move of the surface per frame beyond where the bones carry it "
+                                       "(mm, 0 = no limit)",
+                                       PropertyRange{0.0, 1000.0}};
   Property<double> surface_cell_mm{this, "surface_cell_mm", 2.0, "grid cell of per-frame surfaces (mm)",
                                    PropertyRange{0.05, 50.0}};
   Property<int> fibres{this, "fibres", 100, "number of fibres (0 = none)", PropertyRange{0, 10000}};
@@ -189,6 +200,13 @@ class RBFMuscle final : public Component {
                   [this] { return result_.guard_ms; }};
   Output islands_removed{this, "islands_removed", "1", "islands and cavities the topology guard removed this frame",
                          [this] { return result_.islands_removed; }};
+  Output step_excess_mm{this, "step_excess_mm", "mm",
+                        "before the step limit: largest distance of a surface point from the previous frame's surface "
+                        "beyond the bones' move there plus max_surface_step_mm (0 when within; max over sub-steps)",
+                        [this] { return result_.step_excess_mm; }};
+  Output step_scale{this, "step_scale", "1",
+                    "part of the frame's correction kept by the step limit (1: all; min over sub-steps)",
+                    [this] { return result_.step_scale; }};
   Output islands_left{this, "islands_left", "1", "islands and cavities left (0 unless the guard hit its cap)",
                       [this] { return result_.islands_left; }};
   Output attached_centres{this, "attached_centres", "1", "centres moving rigidly with a bone",
@@ -263,6 +281,8 @@ class RBFMuscle final : public Component {
     double guard_ms = kNaN;
     double islands_removed = kNaN;
     double islands_left = kNaN;
+    double step_excess_mm = kNaN;  ///< mm
+    double step_scale = kNaN;
     double attached_centres = kNaN;
     Eigen::VectorXd fiber_lengths_mm;  ///< per fibre (mm); size fixed in initialize
     double fiber_length_mean_mm = kNaN;

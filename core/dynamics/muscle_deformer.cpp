@@ -1,6 +1,6 @@
 #include "dynamics/muscle_deformer.h"
 
-#include "geometry/iso_surface.h"
+#include "dynamics/field_surface.h"
 
 #include <algorithm>
 #include <chrono>
@@ -20,7 +20,11 @@ double msSince(std::chrono::steady_clock::time_point start) {
 
 MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachments& attachments,
                                const DeformerSettings& settings)
-    : rest_field_(rest_field), field_(rest_field), attachments_(attachments), settings_(settings) {
+    : rest_field_(rest_field),
+      field_(rest_field),
+      attachments_(attachments),
+      settings_(settings),
+      step_limiter_(settings.step_limit) {
   if (!(settings.cutoff >= 0.0 && settings.cutoff < 1.0)) {
     throw std::invalid_argument("MuscleDeformer: cutoff " + std::to_string(settings.cutoff) + ", expected [0, 1)");
   }
@@ -80,6 +84,7 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
     }
   }
   jacobians_ = Eigen::VectorXd::Ones(quadrature_.points_mm.cols());
+  bone_steps_M_.assign(static_cast<size_t>(attachments.num_bones), Eigen::Isometry3d::Identity());
 }
 
 const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>& bone_motion_M) {
@@ -97,6 +102,17 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     transforms_[b] = toDualQuaternion(bone_motion_M[b]);
   }
   auto start = std::chrono::steady_clock::now();
+  const bool limit_step = settings_.warm_start && has_previous_ && settings_.step_limit.max_step_mm > 0.0;
+  const double previous_correction = volume_keeper_->getCorrection();
+  if (limit_step) {
+    previous_weights_ = field_.getWeights();
+    if (limited_surface_is_current_)
+      step_limiter_.adoptLastSurface();
+    else
+      step_limiter_.setPreviousSurface(field_, calcCurrentBox(settings_.step_limit.cell_mm));
+    for (size_t b = 0; b < bone_motion_M.size(); ++b) bone_steps_M_[b] = bone_motion_M[b] * previous_motion_M_[b].inverse();
+  }
+  previous_motion_M_ = bone_motion_M;
   // The descent compares κ of the field without the volume correction with κ₀.
   volume_keeper_->removeCorrection(field_);
   predictCentres(rest_field_.getCentres(), attachments_, centre_weights_, transforms_, predicted_centres_mm_);
@@ -176,6 +192,33 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     result_.volume_ms += msSince(start);
   }
 
+  result_.step_limit = StepLimitReport{};
+  result_.step_limit_ms = 0.0;
+  if (limit_step) {
+    start = std::chrono::steady_clock::now();
+    start_field_ = field_;  // same shapes, offset and cut-off
+    start_field_.setCentrePositions(start_centres_mm_);
+    start_field_.setWeights(previous_weights_);
+    const double end_correction = volume_keeper_->getCorrection();
+    result_.step_limit =
+        step_limiter_.run(start_field_, field_, calcCurrentBox(settings_.step_limit.cell_mm), bone_steps_M_);
+    const double t = result_.step_limit.scale;
+    limited_surface_is_current_ = true;
+    if (t < 1.0) {
+      // The weights went back along the line, δ c with them.
+      volume_keeper_->setAppliedCorrection(previous_correction + t * (end_correction - previous_correction));
+      const TopologyReport topology = topology_guard_->run(field_, calcCurrentBox(topology_guard_->getSettings().cell_mm));
+      result_.islands_found += topology.islands_found + topology.cavities_found;
+      result_.necks_raised += topology.necks_raised;
+      result_.islands_left = topology.defects_left;
+      result_.topology_stop = topology.stop_reason;
+      limited_surface_is_current_ = topology.weights_changed == 0;
+      volume.volume_mm3 = volume_keeper_->calcVolume(field_, current_points_mm_, jacobians_);
+      volume.volume_ratio = volume.volume_mm3 / volume_keeper_->getRestVolume();
+    }
+    result_.step_limit_ms = msSince(start);
+  }
+
   result_.volume_mm3 = volume.volume_mm3;
   result_.volume_ratio = volume.volume_ratio;
   result_.volume_stop = volume.stop_reason;
@@ -194,6 +237,7 @@ void MuscleDeformer::setCurrentCentres(const Eigen::Matrix3Xd& centres_mm) {
                                 " centres, expected " + std::to_string(field_.getNumCentres()));
   }
   field_.setCentrePositions(centres_mm);
+  limited_surface_is_current_ = false;
 }
 
 void MuscleDeformer::applyKeptCorrection(const Eigen::Matrix3Xd& centres_mm) {
@@ -240,24 +284,7 @@ Eigen::AlignedBox3d MuscleDeformer::calcCurrentBox(double cell_mm) const {
 
 TriangleMesh MuscleDeformer::extractSurface(double cell_mm) const {
   if (!(cell_mm > 0.0)) throw std::invalid_argument("MuscleDeformer::extractSurface: cell " + std::to_string(cell_mm) + " mm, expected > 0");
-  // The field on every node by separable sums (field_on_grid.h), about 15× faster than
-  // evaluating the nodes one by one; the extraction then reads its layers from them.
-  const Eigen::AlignedBox3d box = calcCurrentBox(cell_mm);
-  RegularGrid grid;
-  grid.origin_mm = box.min();
-  grid.cell_mm = cell_mm;
-  grid.counts = countIsoSurfaceNodes(box, cell_mm);
-  std::vector<double> node_values;
-  calcValuesOnGrid(field_, grid, node_values);
-  const auto lookup = [&grid, &node_values](const Eigen::Matrix3Xd& p, Eigen::VectorXd& v) {
-    v.resize(p.cols());
-    for (Eigen::Index j = 0; j < p.cols(); ++j) {
-      const Eigen::Vector3d ijk = ((p.col(j) - grid.origin_mm) / grid.cell_mm).array().round();
-      v(j) = node_values[static_cast<size_t>(grid.index(static_cast<std::int64_t>(ijk.x()), static_cast<std::int64_t>(ijk.y()),
-                                                      static_cast<std::int64_t>(ijk.z())))];
-    }
-  };
-  return extractIsoSurface(lookup, box, cell_mm);
+  return extractFieldSurface(field_, calcCurrentBox(cell_mm), cell_mm);
 }
 
 }  // namespace rbfmuscle

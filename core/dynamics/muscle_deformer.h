@@ -6,6 +6,7 @@
 #include "dynamics/curvature_descent.h"
 #include "dynamics/motion_prediction.h"
 #include "dynamics/quadrature.h"
+#include "dynamics/surface_step_limiter.h"
 #include "dynamics/volume_keeper.h"
 #include "dynamics/topology_guard.h"
 #include "geometry/triangle_mesh.h"
@@ -28,6 +29,9 @@ struct DeformerSettings {
   DescentSettings descent;        ///< descent of the free centres
   VolumeSettings volume;          ///< volume measure and correction
   TopologySettings topology;      ///< island and cavity guard (topology_guard.h)
+  /// Largest move of the surface per update beyond the carried previous surface
+  /// (surface_step_limiter.h); applies with warm_start from the second update on.
+  StepLimitSettings step_limit;
   double blend_length_mm = 1.0;   ///< softening length ℓ of the blend weights (attachment.h, mm), > 0
   /// Step (mm) of the central differences giving the Jacobian det ∂P/∂x of the
   /// prediction at each volume point; ≤ 0 means "h/2".
@@ -63,6 +67,8 @@ struct DeformResult {
   double descent_ms = kNaN;       ///< wall time of the descent (ms)
   double volume_ms = kNaN;        ///< wall time of the volume step(s) (ms)
   double topology_ms = 0.0;       ///< wall time of the island guard (ms)
+  StepLimitReport step_limit;     ///< what the step limit did (surface_step_limiter.h)
+  double step_limit_ms = 0.0;     ///< wall time of the step limit, its guard pass included (ms)
 };
 
 /// Deforms one muscle's Gaussian field with its bones.
@@ -79,7 +85,11 @@ struct DeformResult {
 ///     came apart from the body are lowered below zero, larger pieces are joined back,
 ///     cavities filled and thinning necks raised; then step 3 runs again, and both repeat while the guard
 ///     changes something (at most 5 passes, the last one ending with the guard, so the
-///     surface is one piece and its volume, measured, off by the last repair only).
+///     surface is one piece and its volume, measured, off by the last repair only);
+///  5. step limit (surface_step_limiter.h): if the surface moved more than max_step_mm beyond
+///     the previous frame's surface carried by the prediction, steps 2–4 are taken back part of
+///     the way (centres, weights and δ along the line from the carried previous field), the
+///     guard looks once more, and the volume is measured.
 /// With warm_start (default) a frame starts from the previous frame's result carried
 /// by the change of prediction, so the result depends on the sequence of transforms
 /// (identical sequences give bitwise identical fields); without it each frame starts
@@ -160,6 +170,13 @@ class MuscleDeformer {
   std::unique_ptr<CurvatureDescent> descent_;
   std::unique_ptr<VolumeKeeper> volume_keeper_;
   std::unique_ptr<TopologyGuard> topology_guard_;
+  SurfaceStepLimiter step_limiter_;
+  GaussianField start_field_;               ///< the previous frame's field carried by the prediction (step limit)
+  Eigen::VectorXd previous_weights_;        ///< the previous frame's weights, volume correction included
+  std::vector<Eigen::Isometry3d> previous_motion_M_;  ///< the bone motions of the previous update
+  std::vector<Eigen::Isometry3d> bone_steps_M_;       ///< the bones' motions since the previous update (M)
+  /// Whether the field is still the one the step limit last measured (its surface is reused).
+  bool limited_surface_is_current_ = false;
   std::vector<DualQuaternion> transforms_;
   Eigen::Matrix3Xd predicted_centres_mm_;
   Eigen::Matrix3Xd previous_predicted_mm_;  ///< prediction of the previous frame (warm start)

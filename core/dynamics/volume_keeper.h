@@ -85,6 +85,9 @@ class VolumeKeeper {
   /// Forgets the correction without touching a field (its weights were reset to c-free ones):
   /// δ = 0 and the next search starts from 0.
   void forgetCorrection() { correction_ = guess_ = 0.0; }
+  /// Records that the field's weights now hold δ c, moved there by someone else (the deformer's
+  /// step limit takes the weights back part of the way): the next removeCorrection takes it out.
+  void setAppliedCorrection(double delta) { correction_ = guess_ = delta; }
 
   /// V for the current field at `points_mm` with Jacobians, no correction (mm³).
   double calcVolume(const GaussianField& field, const Eigen::Matrix3Xd& points_mm,

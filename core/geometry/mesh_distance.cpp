@@ -23,7 +23,7 @@ Eigen::Vector3d closestOnSegment(const Eigen::Vector3d& p, const Eigen::Vector3d
 
 }  // namespace
 
-MeshDistance::MeshDistance(TriangleMesh mesh) : mesh_(std::move(mesh)) {
+MeshDistance::MeshDistance(TriangleMesh mesh, bool signs) : mesh_(std::move(mesh)), signs_(signs) {
   const int T = mesh_.countTriangles(), V = mesh_.countVertices();
   if (T == 0) throw MeshError("MeshDistance: mesh has no triangles");
   if (!mesh_.vertices_mm.allFinite()) throw MeshError("MeshDistance: mesh has non-finite vertices");
@@ -33,7 +33,8 @@ MeshDistance::MeshDistance(TriangleMesh mesh) : mesh_(std::move(mesh)) {
   // Pseudo-normals.
   face_normals_.setZero(3, T);
   vertex_normals_.setZero(3, V);
-  const detail::EdgeTable edges = detail::buildEdgeTable(mesh_);
+  detail::EdgeTable edges;
+  if (signs_) edges = detail::buildEdgeTable(mesh_);
   triangle_edges_ = edges.of_triangle;
   edge_normals_.assign(edges.vertices.size(), Eigen::Vector3d::Zero());
   for (int t = 0; t < T; ++t) {
@@ -41,7 +42,8 @@ MeshDistance::MeshDistance(TriangleMesh mesh) : mesh_(std::move(mesh)) {
         (mesh_.getCorner(t, 1) - mesh_.getCorner(t, 0)).cross(mesh_.getCorner(t, 2) - mesh_.getCorner(t, 0));
     const double norm = n.norm();
     if (!(norm > 0.0)) continue;
-    face_normals_.col(t) = n / norm;
+    face_normals_.col(t) = n / norm;  // also marks degenerate triangles for the queries
+    if (!signs_) continue;
     for (int c = 0; c < 3; ++c) {
       edge_normals_[std::size_t(triangle_edges_(c, t))] += face_normals_.col(t);
       const Eigen::Vector3d u = mesh_.getCorner(t, (c + 1) % 3) - mesh_.getCorner(t, c);
@@ -189,6 +191,7 @@ ClosestPoint MeshDistance::findClosestPoint(const Eigen::Vector3d& p_mm) const {
 }
 
 SignedClosestPoint MeshDistance::findSignedClosestPoint(const Eigen::Vector3d& p_mm, double max_distance_mm) const {
+  requireSigns();
   const Hit hit = findHit(p_mm, max_distance_mm * max_distance_mm);
   SignedClosestPoint c;
   if (hit.triangle < 0) {
@@ -206,7 +209,17 @@ double MeshDistance::calcUnsignedDistance(const Eigen::Vector3d& p_mm) const {
   return std::sqrt(findHit(p_mm).distance_sq);
 }
 
+double MeshDistance::calcUnsignedDistanceWithin(const Eigen::Vector3d& p_mm, double max_distance_mm) const {
+  const Hit hit = findHit(p_mm, max_distance_mm * max_distance_mm);
+  return hit.triangle < 0 ? std::numeric_limits<double>::infinity() : std::sqrt(hit.distance_sq);
+}
+
+void MeshDistance::requireSigns() const {
+  if (!signs_) throw MeshError("MeshDistance: a signed query on a tree built without signs");
+}
+
 double MeshDistance::calcSignedDistance(const Eigen::Vector3d& p_mm) const {
+  requireSigns();
   const Hit hit = findHit(p_mm);
   return signOf(p_mm, hit) * std::sqrt(hit.distance_sq);
 }

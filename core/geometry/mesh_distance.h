@@ -40,9 +40,10 @@ struct SignedClosestPoint : ClosestPoint {
 /// give the same results for any number of threads.
 class MeshDistance {
  public:
-  /// Builds the tree and pseudo-normals for `mesh` (copied).
+  /// Builds the tree and, with `signs` (default), the pseudo-normals for `mesh` (copied).
+  /// Without them (about half the build time) only the unsigned queries may be used.
   /// @throws MeshError if the mesh has no triangles or a non-finite vertex.
-  explicit MeshDistance(TriangleMesh mesh);
+  explicit MeshDistance(TriangleMesh mesh, bool signs = true);
 
   /// The mesh queried (mm).
   const TriangleMesh& getMesh() const { return mesh_; }
@@ -57,6 +58,8 @@ class MeshDistance {
                                             double max_distance_mm = std::numeric_limits<double>::infinity()) const;
   /// ‖p − q‖ (mm), q the closest point.
   double calcUnsignedDistance(const Eigen::Vector3d& p_mm) const;
+  /// ‖p − q‖ (mm) if at most `max_distance_mm`, else +∞ (a search pruned to that distance).
+  double calcUnsignedDistanceWithin(const Eigen::Vector3d& p_mm, double max_distance_mm) const;
   /// s(p) (mm): negative inside, positive outside, 0 on the surface.
   double calcSignedDistance(const Eigen::Vector3d& p_mm) const;
   /// s(p) < 0.
@@ -90,7 +93,11 @@ class MeshDistance {
   Hit findHit(const Eigen::Vector3d& p, double max_distance_sq = std::numeric_limits<double>::infinity()) const;
   double signOf(const Eigen::Vector3d& p, const Hit& hit) const;
 
+  /// Throws unless the pseudo-normals were built (signed queries).
+  void requireSigns() const;
+
   TriangleMesh mesh_;
+  bool signs_ = true;
   std::vector<int> order_;                 ///< triangle index of each tree slot.
   std::vector<std::array<Eigen::Vector3d, 3>> corners_;  ///< corners per slot (cache-friendly).
   std::vector<Node> nodes_;                ///< nodes_[0] is the root.
