@@ -174,17 +174,12 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   result_.necks_raised = 0;
   for (int pass = 0;; ++pass) {
     start = std::chrono::steady_clock::now();
-    const TopologyReport topology = topology_guard_->run(field_, calcCurrentBox(topology_guard_->getSettings().cell_mm));
+    const TopologyReport topology = runGuard();
     result_.topology_ms += msSince(start);
-    result_.islands_found += topology.islands_found + topology.cavities_found;
-    result_.necks_raised += topology.necks_raised;
-    result_.islands_left = topology.defects_left;
-    result_.topology_stop = topology.stop_reason;
     if (topology.weights_changed == 0) break;
     start = std::chrono::steady_clock::now();
     if (pass + 1 == kGuardPasses) {
-      volume.volume_mm3 = volume_keeper_->calcVolume(field_, current_points_mm_, jacobians_);
-      volume.volume_ratio = volume.volume_mm3 / volume_keeper_->getRestVolume();
+      measureVolume(volume);
       result_.volume_ms += msSince(start);
       break;
     }
@@ -207,14 +202,8 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     if (t < 1.0) {
       // The weights went back along the line, δ c with them.
       volume_keeper_->setAppliedCorrection(previous_correction + t * (end_correction - previous_correction));
-      const TopologyReport topology = topology_guard_->run(field_, calcCurrentBox(topology_guard_->getSettings().cell_mm));
-      result_.islands_found += topology.islands_found + topology.cavities_found;
-      result_.necks_raised += topology.necks_raised;
-      result_.islands_left = topology.defects_left;
-      result_.topology_stop = topology.stop_reason;
-      limited_surface_is_current_ = topology.weights_changed == 0;
-      volume.volume_mm3 = volume_keeper_->calcVolume(field_, current_points_mm_, jacobians_);
-      volume.volume_ratio = volume.volume_mm3 / volume_keeper_->getRestVolume();
+      limited_surface_is_current_ = runGuard().weights_changed == 0;
+      measureVolume(volume);
     }
     result_.step_limit_ms = msSince(start);
   }
@@ -229,6 +218,20 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   result_.iterations = descent_report_.iterations;
   result_.stop_reason = descent_report_.stop_reason;
   return result_;
+}
+
+TopologyReport MuscleDeformer::runGuard() {
+  const TopologyReport topology = topology_guard_->run(field_, calcCurrentBox(topology_guard_->getSettings().cell_mm));
+  result_.islands_found += topology.islands_found + topology.cavities_found;
+  result_.necks_raised += topology.necks_raised;
+  result_.islands_left = topology.defects_left;
+  result_.topology_stop = topology.stop_reason;
+  return topology;
+}
+
+void MuscleDeformer::measureVolume(VolumeReport& volume) const {
+  volume.volume_mm3 = volume_keeper_->calcVolume(field_, current_points_mm_, jacobians_);
+  volume.volume_ratio = volume.volume_mm3 / volume_keeper_->getRestVolume();
 }
 
 void MuscleDeformer::setCurrentCentres(const Eigen::Matrix3Xd& centres_mm) {

@@ -29,8 +29,8 @@ struct DeformerSettings {
   DescentSettings descent;        ///< descent of the free centres
   VolumeSettings volume;          ///< volume measure and correction
   TopologySettings topology;      ///< island and cavity guard (topology_guard.h)
-  /// Largest move of the surface per update beyond the carried previous surface
-  /// (surface_step_limiter.h); applies with warm_start from the second update on.
+  /// How far the surface may move per update beyond the bones' own move (surface_step_limiter.h);
+  /// applies with warm_start from the second update on.
   StepLimitSettings step_limit;
   double blend_length_mm = 1.0;   ///< softening length ℓ of the blend weights (attachment.h, mm), > 0
   /// Step (mm) of the central differences giving the Jacobian det ∂P/∂x of the
@@ -86,10 +86,10 @@ struct DeformResult {
 ///     cavities filled and thinning necks raised; then step 3 runs again, and both repeat while the guard
 ///     changes something (at most 5 passes, the last one ending with the guard, so the
 ///     surface is one piece and its volume, measured, off by the last repair only);
-///  5. step limit (surface_step_limiter.h): if the surface moved more than max_step_mm beyond
-///     the previous frame's surface carried by the prediction, steps 2–4 are taken back part of
-///     the way (centres, weights and δ along the line from the carried previous field), the
-///     guard looks once more, and the volume is measured.
+///  5. step limit (surface_step_limiter.h): if a point of the surface ends further from the
+///     previous frame's surface than the bones move there plus max_step_mm, steps 2–4 are taken
+///     back part of the way (centres, weights and δ along the line from the previous field
+///     carried by the prediction), the guard looks once more, and the volume is measured.
 /// With warm_start (default) a frame starts from the previous frame's result carried
 /// by the change of prediction, so the result depends on the sequence of transforms
 /// (identical sequences give bitwise identical fields); without it each frame starts
@@ -156,6 +156,10 @@ class MuscleDeformer {
  private:
   /// Step of the Jacobian differences (mm).
   double jacobianStep() const;
+  /// Runs the guard over the current box and adds its figures to result_.
+  TopologyReport runGuard();
+  /// Measures the volume of the field as it is into `volume` (no correction).
+  void measureVolume(VolumeReport& volume) const;
   /// Moves points by the Gaussian-weighted mean of the centres' kept offsets.
   void addKeptOffsetToPoints(Eigen::Matrix3Xd& points_mm) const;
 

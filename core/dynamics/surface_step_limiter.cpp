@@ -50,8 +50,9 @@ double SurfaceStepLimiter::calcExcess(const GaussianField& field, const Eigen::A
 #pragma omp parallel for schedule(static) reduction(max : worst)
   for (int v = 0; v < mesh.countVertices(); ++v) {
     const Eigen::Vector3d y = mesh.vertices_mm.col(v);
-    double allowed = settings_.max_step_mm;
-    for (const Eigen::Isometry3d& step : bone_steps_M) allowed = std::max(allowed, (step * y - y).norm() + settings_.max_step_mm);
+    double bone_move_mm = 0.0;
+    for (const Eigen::Isometry3d& step : bone_steps_M) bone_move_mm = std::max(bone_move_mm, (step * y - y).norm());
+    const double allowed = bone_move_mm + settings_.max_step_mm;
     // Most points are within their allowance: a search pruned to it is cheap.
     if (previous_->calcUnsignedDistanceWithin(y, allowed) <= allowed) continue;
     const double d = previous_->calcUnsignedDistanceWithin(y, allowed + cap_mm);

@@ -23,7 +23,8 @@ struct StepLimitSettings {
   double max_step_mm = 0.0;
   /// Grid spacing of the surfaces compared (mm, > 0); the default is the output surfaces'.
   double cell_mm = 2.0;
-  /// Cap on the bisection's trials of a shorter step, ≥ 1 (the scale is found to 2^−trials).
+  /// Cap on the trials of a shorter step, ≥ 1: the start, then bisection (the scale is found to
+  /// 2^−(max_trials − 1)).
   int max_trials = 6;
 };
 
@@ -46,7 +47,7 @@ struct StepLimitReport {
   double full_excess_mm = 0.0;
   double excess_mm = 0.0;     ///< the same for the step kept (mm)
   double scale = 1.0;         ///< t of the step kept, in [0, 1]
-  int trials = 0;             ///< bisection trials (0 when the whole step was within the limit)
+  int trials = 0;             ///< trials of a shorter step (0 when the whole step was within the limit)
   StepLimitStop stop_reason = StepLimitStop::kDisabled;
 };
 
@@ -59,7 +60,8 @@ struct StepLimitReport {
 /// distance to S_prev's triangles. If the end of the step has excess > 0, the parameters go
 /// back along the straight line from the start, the previous field carried by the prediction:
 /// ξ(t) = ξ_s + t (ξ_e − ξ_s), λ(t) = λ_s + t (λ_e − λ_s), and t is bisected within [0, 1]
-/// (max_trials trials; the largest t within the limit is kept, t = 0 if none is).
+/// (max_trials trials, t = 0 first; the largest t within the limit is kept, and if none is, the
+/// t of least excess).
 /// One-sided: a piece that disappears (a crumb the guard removes) is not a jump.
 ///
 /// Why: where the field is flat at its surface (|∇f| a tenth of its rest value), a small
