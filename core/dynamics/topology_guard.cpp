@@ -49,10 +49,11 @@ std::string toString(TopologyStop stop) {
 
 TopologyGuard::TopologyGuard(std::vector<bool> free_mask, Eigen::VectorXd max_abs_weights,
                              const TopologySettings& settings)
-    : free_mask_(std::move(free_mask)), max_abs_weights_(std::move(max_abs_weights)), settings_(settings) {
-  if (max_abs_weights_.size() != static_cast<Eigen::Index>(free_mask_.size()) || (max_abs_weights_.array() < 0.0).any()) {
-    throw std::invalid_argument("TopologyGuard: " + std::to_string(max_abs_weights_.size()) +
-                                " weight limits (expected one >= 0 per centre, " + std::to_string(free_mask_.size()) + ")");
+    : limits_{std::move(free_mask), std::move(max_abs_weights)}, settings_(settings) {
+  if (limits_.max_abs_weights.size() != static_cast<Eigen::Index>(limits_.free_mask.size()) ||
+      (limits_.max_abs_weights.array() < 0.0).any()) {
+    throw std::invalid_argument("TopologyGuard: " + std::to_string(limits_.max_abs_weights.size()) +
+                                " weight limits (expected one >= 0 per centre, " + std::to_string(limits_.free_mask.size()) + ")");
   }
   if (!(settings.cell_mm > 0.0) || !std::isfinite(settings.cell_mm)) {
     throw std::invalid_argument("TopologyGuard: cell_mm " + std::to_string(settings.cell_mm) + ", expected > 0");
@@ -194,36 +195,9 @@ int TopologyGuard::countPieces(const GaussianField& field, const Eigen::AlignedB
 
 bool TopologyGuard::changeValueAt(const GaussianField& field, const Eigen::Vector3d& x_mm, double change,
                                   Eigen::VectorXd& weights, TopologyReport& report) {
-  field.findActiveCentres(x_mm, active_);
-  // The free centres active at x; only if there are none, the attached ones too.
-  for (const bool free_only : {true, false}) {
-    double norm = 0.0;  // Σ |λ| φ²
-    for (int a = 0; a < active_.size(); ++a) {
-      const int k = active_.indices[static_cast<size_t>(a)];
-      const double phi = active_.phi[static_cast<size_t>(a)];
-      if (!free_only || free_mask_[static_cast<size_t>(k)]) norm += std::abs(weights(k)) * phi * phi;
-    }
-    if (!(norm > 0.0)) continue;
-    bool changed = false;
-    for (int a = 0; a < active_.size(); ++a) {
-      const int k = active_.indices[static_cast<size_t>(a)];
-      if (free_only && !free_mask_[static_cast<size_t>(k)]) continue;
-      // A weight changes by Δf |λ| φ / Σ|λ|φ², never changes sign (the fit's sign rule),
-      // by at most |λ| per round and never beyond its limit (far centres alone would
-      // otherwise need huge weights).
-      const double step = std::clamp(change * active_.phi[static_cast<size_t>(a)] / norm, -1.0, 1.0);
-      const double updated = weights(k) + step * std::abs(weights(k));
-      const double limit = max_abs_weights_(k);
-      const double clamped = weights(k) > 0.0 ? std::clamp(updated, 0.0, limit) : std::clamp(updated, -limit, 0.0);
-      if (clamped != weights(k)) {
-        weights(k) = clamped;
-        ++report.weights_changed;
-        changed = true;
-      }
-    }
-    return changed;
-  }
-  return false;
+  const int changed = rbfmuscle::changeValueAt(field, x_mm, change, limits_, weights, active_);
+  report.weights_changed += changed;
+  return changed > 0;
 }
 
 void TopologyGuard::findGapNodes(int island, int body, std::vector<std::int64_t>& gap) {
@@ -331,8 +305,8 @@ bool TopologyGuard::raiseNecks(const GaussianField& field, const Eigen::AlignedB
 TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3d& box_mm) {
   TopologyReport report;
   if (!settings_.enabled) return report;
-  if (static_cast<int>(free_mask_.size()) != field.getNumCentres()) {
-    throw std::invalid_argument("TopologyGuard::run: mask of " + std::to_string(free_mask_.size()) +
+  if (static_cast<int>(limits_.free_mask.size()) != field.getNumCentres()) {
+    throw std::invalid_argument("TopologyGuard::run: mask of " + std::to_string(limits_.free_mask.size()) +
                                 " centres, field has " + std::to_string(field.getNumCentres()));
   }
   Eigen::VectorXd weights = field.getWeights();

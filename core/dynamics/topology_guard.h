@@ -11,6 +11,7 @@
 /// Gaussian cannot stretch with the tissue, so this is a property of the
 /// representation, not of the descent; the guard makes the outcome explicit and
 /// bounded instead of leaving floating pieces in the output.
+#include "dynamics/local_value_change.h"
 #include "rbf/field_on_grid.h"
 #include "rbf/gaussian_field.h"
 
@@ -91,12 +92,8 @@ struct TopologyReport {
 /// between the closest (island, body) pair of nodes is raised to +margin, in path order
 /// (when no weight can raise them, the island is lowered as a crumb instead). The change is
 /// made through the weights of the free centres active at x* (the attached ones only
-/// when no free one is), by the smallest change in Σ Δλₖ²/|λₖ| that makes f(x*) change
-/// by Δf:
-///   Δλₖ = Δf |λₖ| φₖ(x*) / Σⱼ |λⱼ| φⱼ(x*)²,
-/// clamped to at most |λₖ| per round, to |λₖ| ≤ its limit, and so no weight changes
-/// sign (the fit's sign rule); it acts most on the centres that peak at x* and little
-/// on wide ones that also carry the body. Rounds repeat until no defect is left or the
+/// when no free one is) by changeValueAt (local_value_change.h: the smallest change in
+/// Σ Δλₖ²/|λₖ| that makes f(x*) change by Δf, clamped, no weight changing sign). Rounds repeat until no defect is left or the
 /// cap. Once the surface is one piece, necks are looked at once per run (neck_level): the
 /// thinnest nodes of the widest path (the path through {f > 0} whose smallest value is
 /// largest) between a large piece of {f > neck_level} and the largest one are raised the
@@ -146,8 +143,7 @@ class TopologyGuard {
   static constexpr int kOutside = -2;     ///< node state: on a box face, or f ≤ 0
   static constexpr int kUnlabelled = -1;  ///< node state: inside, no piece yet
 
-  std::vector<bool> free_mask_;
-  Eigen::VectorXd max_abs_weights_;
+  WeightEditLimits limits_;  ///< which weights the guard may change, and how far
   TopologySettings settings_;
   RegularGrid grid_;
   std::vector<double> value_of_node_;     ///< f per node
