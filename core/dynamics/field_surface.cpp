@@ -10,7 +10,8 @@
 
 namespace rbfmuscle {
 
-TriangleMesh extractFieldSurface(const GaussianField& field, const Eigen::AlignedBox3d& box_mm, double cell_mm) {
+TriangleMesh extractFieldSurface(const GaussianField& field, const Eigen::AlignedBox3d& box_mm, double cell_mm,
+                                 std::vector<std::uint64_t>* vertex_edges) {
   if (!(cell_mm > 0.0)) throw std::invalid_argument("extractFieldSurface: cell " + std::to_string(cell_mm) + " mm, expected > 0");
   if (box_mm.isEmpty()) throw std::invalid_argument("extractFieldSurface: empty box");
   RegularGrid grid;
@@ -27,7 +28,7 @@ TriangleMesh extractFieldSurface(const GaussianField& field, const Eigen::Aligne
                                                       static_cast<std::int64_t>(ijk.z())))];
     }
   };
-  return extractIsoSurface(lookup, box_mm, cell_mm);
+  return extractIsoSurface(lookup, box_mm, cell_mm, nullptr, vertex_edges);
 }
 
 }  // namespace rbfmuscle

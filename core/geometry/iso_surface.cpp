@@ -52,6 +52,7 @@ class Extractor {
   }
 
   std::int64_t getClippedNodes() const { return clipped_nodes_; }
+  std::vector<std::uint64_t>& updVertexEdges() { return vertex_edges_; }
 
  private:
   Eigen::Vector3d nodePosition(std::int64_t i, std::int64_t j, std::int64_t k) const {
@@ -97,13 +98,16 @@ class Extractor {
     std::array<Eigen::Vector3d, 8> x;
     int inside_count = 0;
     for (int m = 0; m < 8; ++m) {
-      const std::int64_t ii = i + (m & 1), jj = j + ((m >> 1) & 1), kk = k + ((m >> 2) & 1);
+      const std::int64_t ii = i + (m & 1), jj = j + ((m >> 1) & 1);
       f[std::size_t(m)] = ((m & 4) ? above : below)[std::size_t(ii + n_[0] * jj)];
-      id[std::size_t(m)] = ii + n_[0] * (jj + n_[1] * kk);
-      x[std::size_t(m)] = nodePosition(ii, jj, kk);
       inside_count += f[std::size_t(m)] > 0.0 ? 1 : 0;
     }
-    if (inside_count == 0 || inside_count == 8) return;
+    if (inside_count == 0 || inside_count == 8) return;  // most cubes: nothing more to do
+    for (int m = 0; m < 8; ++m) {
+      const std::int64_t ii = i + (m & 1), jj = j + ((m >> 1) & 1), kk = k + ((m >> 2) & 1);
+      id[std::size_t(m)] = ii + n_[0] * (jj + n_[1] * kk);
+      x[std::size_t(m)] = nodePosition(ii, jj, kk);
+    }
     for (const auto& tet : kTets) processTet(tet, f, id, x);
   }
 
@@ -116,6 +120,7 @@ class Extractor {
     const double f0 = f[std::size_t(lo)], f1 = f[std::size_t(hi)];
     const double t = std::clamp(f0 / (f0 - f1), kSnap, 1.0 - kSnap);
     vertices_.push_back(x[std::size_t(lo)] + t * (x[std::size_t(hi)] - x[std::size_t(lo)]));
+    vertex_edges_.push_back(key);
     const int v = int(vertices_.size()) - 1;
     edge_vertex_.emplace(key, v);
     return v;
@@ -163,6 +168,7 @@ class Extractor {
   double cell_;
   std::array<std::int64_t, 3> n_;
   std::vector<Eigen::Vector3d> vertices_;
+  std::vector<std::uint64_t> vertex_edges_;  ///< per vertex: id(low node)·8 + (hi − lo corner mask)
   std::vector<std::array<int, 3>> triangles_;
   std::unordered_map<std::uint64_t, int> edge_vertex_;
 };
@@ -177,7 +183,7 @@ std::array<std::int64_t, 3> countIsoSurfaceNodes(const Eigen::AlignedBox3d& box_
 }
 
 TriangleMesh extractIsoSurface(const ScalarFieldFn& field, const Eigen::AlignedBox3d& box_mm,
-                               double cell_mm, std::int64_t* clipped_nodes) {
+                               double cell_mm, std::int64_t* clipped_nodes, std::vector<std::uint64_t>* vertex_edges) {
   if (box_mm.isEmpty() || !box_mm.min().allFinite() || !box_mm.max().allFinite()) {
     std::ostringstream s;
     s << "extractIsoSurface: box [" << box_mm.min().transpose() << "] – ["
@@ -191,6 +197,7 @@ TriangleMesh extractIsoSurface(const ScalarFieldFn& field, const Eigen::AlignedB
   extractor.checkSize();
   TriangleMesh mesh = extractor.run();
   if (clipped_nodes) *clipped_nodes = extractor.getClippedNodes();
+  if (vertex_edges) vertex_edges->swap(extractor.updVertexEdges());
   return mesh;
 }
 

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "geometry/triangle_mesh.h"
 
@@ -39,9 +40,14 @@ std::array<std::int64_t, 3> countIsoSurfaceNodes(const Eigen::AlignedBox3d& box_
 /// @param box_mm  region to mesh (mm); non-empty.
 /// @param cell_mm grid spacing (mm), > 0; at most 10⁹ nodes.
 /// @param clipped_nodes if given, receives the number of box-face nodes with f > 0.
+/// @param vertex_edges if given, receives per vertex the grid edge it lies on, as
+///        id(lower node)·8 + d, id = i + nᵢ(j + nⱼk), d = the edge's direction as a mask (1 = +x,
+///        2 = +y, 4 = +z; 3, 5, 6, 7 the diagonals): the same edge in two extractions on one
+///        lattice carries both surfaces' crossings.
 /// @throws std::invalid_argument for an empty box, cell_mm ≤ 0 or too many nodes;
 ///         std::runtime_error if the field returns a wrong count or a non-finite value.
 TriangleMesh extractIsoSurface(const ScalarFieldFn& field, const Eigen::AlignedBox3d& box_mm,
-                               double cell_mm, std::int64_t* clipped_nodes = nullptr);
+                               double cell_mm, std::int64_t* clipped_nodes = nullptr,
+                               std::vector<std::uint64_t>* vertex_edges = nullptr);
 
 }  // namespace rbfmuscle
