@@ -22,6 +22,12 @@ struct FrameGeometry {
 /// @throws FrameworkError naming the path when it cannot be written or an index is out of range.
 void writeVtp(const std::string& path, const FrameGeometry& geometry);
 
+/// Reads an ASCII .vtp file as writeVtp writes it (points, triangles, polylines); the name is
+/// the file stem.
+/// @throws FrameworkError naming the path and what is wrong (unreadable, not VTK PolyData, an
+///   array of the wrong length, a non-number or an index out of range).
+FrameGeometry readVtp(const std::string& path);
+
 /// A ParaView `.pvd` collection: (time, file) entries written at the end.
 class PvdSeries {
  public:

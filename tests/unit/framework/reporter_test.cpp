@@ -144,5 +144,40 @@ TEST(FrameGeometry, VtpRejectsOutOfRangeIndices) {
                          "geometry 'tri': vertex index 3 outside [0, 3)"));
 }
 
+// write → read gives back the same points (10 significant digits), triangles and polylines.
+TEST(FrameGeometry, VtpReadsBackWhatWasWritten) {
+  const fs::path dir = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out" / "framework_vtp";
+  fs::create_directories(dir);
+  FrameGeometry geometry;
+  geometry.name = "piece";
+  geometry.vertices_mm.resize(3, 4);
+  geometry.vertices_mm << 0.0, 1.0, 0.0, 812.3456789, 0.0, 0.0, 1.0, -3.25, 0.0, 0.0, 0.0, 1e-3;
+  geometry.triangles.resize(3, 2);
+  geometry.triangles << 0, 1, 2, 1, 3, 3;
+  geometry.polylines = {{0, 3}, {2, 1, 0}};
+  const std::string path = (dir / "piece.vtp").string();
+  writeVtp(path, geometry);
+  const FrameGeometry back = readVtp(path);
+  EXPECT_EQ(back.name, "piece");
+  ASSERT_EQ(back.vertices_mm.cols(), 4);
+  EXPECT_LE((back.vertices_mm - geometry.vertices_mm).cwiseAbs().maxCoeff(), 1e-6);
+  EXPECT_EQ(back.triangles, geometry.triangles);
+  EXPECT_EQ(back.polylines, geometry.polylines);
+}
+
+TEST(FrameGeometry, VtpReaderNamesTheFileAndTheFault) {
+  const fs::path dir = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out" / "framework_vtp";
+  fs::create_directories(dir);
+  const std::string path = (dir / "bad.vtp").string();
+  std::ofstream(path) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\"><PolyData><Piece>\n"
+                      << "<Points><DataArray>0 0 0 1 0 0 0 1 0</DataArray></Points>\n"
+                      << "<Polys><DataArray Name=\"connectivity\">0 1 7</DataArray>"
+                      << "<DataArray Name=\"offsets\">3</DataArray></Polys>\n</Piece></PolyData></VTKFile>\n";
+  EXPECT_TRUE(throwsWith([&] { readVtp(path); }, path + ": vertex index 7"));
+  std::ofstream(path) << "<?xml version=\"1.0\"?>\n<VTKFile><Other/></VTKFile>\n";
+  EXPECT_TRUE(throwsWith([&] { readVtp(path); }, path + ": expected VTKFile/PolyData/Piece"));
+  EXPECT_TRUE(throwsWith([&] { readVtp((dir / "missing.vtp").string()); }, "missing.vtp: cannot read as XML"));
+}
+
 }  // namespace
 }  // namespace rbfmuscle
