@@ -23,8 +23,7 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
     : rest_field_(rest_field),
       field_(rest_field),
       attachments_(attachments),
-      settings_(settings),
-      step_limiter_(settings.step_limit) {
+      settings_(settings) {
   if (!(settings.cutoff >= 0.0 && settings.cutoff < 1.0)) {
     throw std::invalid_argument("MuscleDeformer: cutoff " + std::to_string(settings.cutoff) + ", expected [0, 1)");
   }
@@ -67,6 +66,7 @@ MuscleDeformer::MuscleDeformer(const GaussianField& rest_field, const Attachment
   // near-zero weight can still help fill a cavity but no weight grows without bound.
   const Eigen::VectorXd limits = (2.0 * rest_abs.array() + rest_abs.mean()).matrix();
   topology_guard_ = std::make_unique<TopologyGuard>(free_mask, limits, settings.topology);
+  step_limiter_ = std::make_unique<SurfaceStepLimiter>(settings.step_limit, WeightEditLimits{free_mask, limits});
   transforms_.assign(static_cast<size_t>(attachments.num_bones), DualQuaternion{});
   predicted_centres_mm_ = rest_centres;
   current_points_mm_ = quadrature_.points_mm;
@@ -107,9 +107,9 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   if (limit_step) {
     previous_weights_ = field_.getWeights();
     if (limited_surface_is_current_)
-      step_limiter_.adoptLastSurface();
+      step_limiter_->adoptLastSurface();
     else
-      step_limiter_.setPreviousSurface(field_, calcCurrentBox(settings_.step_limit.cell_mm));
+      step_limiter_->setPreviousSurface(field_, calcCurrentBox(settings_.step_limit.cell_mm));
     for (size_t b = 0; b < bone_motion_M.size(); ++b) bone_steps_M_[b] = bone_motion_M[b] * previous_motion_M_[b].inverse();
   }
   previous_motion_M_ = bone_motion_M;
@@ -196,13 +196,13 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
     start_field_.setWeights(previous_weights_);
     const double end_correction = volume_keeper_->getCorrection();
     result_.step_limit =
-        step_limiter_.run(start_field_, field_, calcCurrentBox(settings_.step_limit.cell_mm), bone_steps_M_);
+        step_limiter_->run(start_field_, field_, calcCurrentBox(settings_.step_limit.cell_mm), bone_steps_M_);
     const double t = result_.step_limit.scale;
     limited_surface_is_current_ = true;
-    if (t < 1.0) {
+    if (t < 1.0 || result_.step_limit.pull_edits > 0) {
       // The weights went back along the line, δ c with them.
       volume_keeper_->setAppliedCorrection(previous_correction + t * (end_correction - previous_correction));
-      limited_surface_is_current_ = runGuard().weights_changed == 0;
+      settleStep();
       measureVolume(volume);
     }
     result_.step_limit_ms = msSince(start);
@@ -218,6 +218,25 @@ const DeformResult& MuscleDeformer::update(const std::vector<Eigen::Isometry3d>&
   result_.iterations = descent_report_.iterations;
   result_.stop_reason = descent_report_.stop_reason;
   return result_;
+}
+
+void MuscleDeformer::settleStep() {
+  // The limited field may have split a piece off or opened a cavity (the scaling refuses that,
+  // a pull-back can do it): the guard repairs it, and its repair may in turn move points beyond
+  // the limit (a bridge where there was none). In turn, at most kSettlePasses times, ending with
+  // the guard: one piece comes first, and step_limit.excess_mm says what is left.
+  constexpr int kSettlePasses = 3;
+  for (int pass = 0;; ++pass) {
+    limited_surface_is_current_ = runGuard().weights_changed == 0;
+    if (limited_surface_is_current_ || pass == kSettlePasses) return;
+    const StepLimitReport again =
+        step_limiter_->pullBack(field_, calcCurrentBox(settings_.step_limit.cell_mm), bone_steps_M_);
+    result_.step_limit.pull_rounds += again.pull_rounds;
+    result_.step_limit.pull_edits += again.pull_edits;
+    result_.step_limit.excess_mm = again.excess_mm;
+    limited_surface_is_current_ = true;
+    if (again.pull_edits == 0) return;
+  }
 }
 
 TopologyReport MuscleDeformer::runGuard() {

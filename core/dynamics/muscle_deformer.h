@@ -89,7 +89,9 @@ struct DeformResult {
 ///  5. step limit (surface_step_limiter.h): if a point of the surface ends further from the
 ///     previous frame's surface than the bones move there plus max_step_mm, steps 2–4 are taken
 ///     back part of the way (centres, weights and δ along the line from the previous field
-///     carried by the prediction), the guard looks once more, and the volume is measured.
+///     carried by the prediction) and points still beyond are pulled back by local weight
+///     edits; then the guard and the pull-back take turns (at most 3 passes, ending with the
+///     guard: one piece first), and the volume is measured.
 /// With warm_start (default) a frame starts from the previous frame's result carried
 /// by the change of prediction, so the result depends on the sequence of transforms
 /// (identical sequences give bitwise identical fields); without it each frame starts
@@ -156,6 +158,8 @@ class MuscleDeformer {
  private:
   /// Step of the Jacobian differences (mm).
   double jacobianStep() const;
+  /// After the step limit changed the field: the guard and the limiter's pull-back in turn.
+  void settleStep();
   /// Runs the guard over the current box and adds its figures to result_.
   TopologyReport runGuard();
   /// Measures the volume of the field as it is into `volume` (no correction).
@@ -174,7 +178,7 @@ class MuscleDeformer {
   std::unique_ptr<CurvatureDescent> descent_;
   std::unique_ptr<VolumeKeeper> volume_keeper_;
   std::unique_ptr<TopologyGuard> topology_guard_;
-  SurfaceStepLimiter step_limiter_;
+  std::unique_ptr<SurfaceStepLimiter> step_limiter_;
   GaussianField start_field_;               ///< the previous frame's field carried by the prediction (step limit)
   Eigen::VectorXd previous_weights_;        ///< the previous frame's weights, volume correction included
   std::vector<Eigen::Isometry3d> previous_motion_M_;  ///< the bone motions of the previous update

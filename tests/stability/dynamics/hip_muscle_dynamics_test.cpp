@@ -124,8 +124,9 @@ const RbfSurface& iliacus() {
 /// 2 r sin(Δθ/2) + 1 mm of the previous surface, the femur's own move at that place
 /// (r = distance from the flexion axis) plus 1 mm for the descent's correction. The
 /// worst excess is printed either way.
-void runFlexion(const RbfSurface& s, const Attachments& att, int step_deg, int last_deg, bool check_jumps) {
-  MuscleDeformer d(s.field, att);
+void runFlexion(const RbfSurface& s, const Attachments& att, int step_deg, int last_deg, bool check_jumps,
+                const DeformerSettings& settings = {}) {
+  MuscleDeformer d(s.field, att, settings);
   TriangleMesh previous = d.extractSurface(2.0);
   ASSERT_EQ(checkMesh(previous).components, 1) << "rest";
   const Eigen::Vector3d hip = Eigen::Vector3d(143.225, 243.37, -432.499) - s.frame_offset_mm;
@@ -199,27 +200,33 @@ TEST(IliacusDynamics, FlexionTo80InOneDegreeSteps) {
   runFlexion(iliacus(), iliacusAttachments(iliacus()), 1, 80, false);
 }
 
-// Issue 4 also asks that no frame jumps further than the bone moves. Before the guard's
-// weight changes were carried from frame to frame and the fits were clamped at 10 mm,
-// pieces were rejoined (or not) afresh every frame and the surface jumped by up to 19 mm
-// beyond the femur's move at 1° steps; with the guard's grid sliding with the motion, by
-// up to 3.3 mm (gluteus) and 1.8 mm (iliacus); with the grid fixed in M, by 2.0 mm (gluteus,
-// 61°, a flat field) and 3.3 mm (iliacus, 51°, a neck cut and bridged). Since the guard
-// raises thinning necks (topology_guard.h, neck_level), what is left beyond the femur's move
-// plus 1 mm (measured 2026-12-02): at 1° steps the gluteus by up to 0.59 mm (8°, beside a
-// crumb the guard removed; also 0.39 mm at 49° and 0.30 mm at 77°) and the iliacus by up to
-// 0.85 mm (43°, beside a crumb removed); at 10° steps the gluteus by up to 4.6 mm (80°, where
-// the stretched belly thins: points 4–5 field units deep at 70° are on the surface at 80°).
-TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo0_6mm_Issue4Open) {
-  runFlexion(gluteus(), gluteusAttachments(gluteus()), 1, 80, true);
+/// The deformer as the hip scenes run it: the step limit on (max_surface_step_mm 0.5).
+DeformerSettings sceneSettings() {
+  DeformerSettings settings;
+  settings.step_limit.max_step_mm = 0.5;
+  return settings;
 }
 
-TEST(GluteusDynamics, DISABLED_NoSurfaceJumpAtTenDegreeSteps_JumpsUpTo4_6mm_Issue4Open) {
-  runFlexion(gluteus(), gluteusAttachments(gluteus()), 10, 80, true);
+// Issue 4 also asks that no frame jumps further than the bone moves. Without the step limit
+// (the library's default) the surface still jumps beyond the femur's move plus 1 mm (measured
+// 2026-12-02): the gluteus by up to 0.59 mm at 1° steps (8°, beside a crumb the guard removed;
+// also 0.39 mm at 49°) and 4.6 mm at 10° steps (80°, where the stretched belly thins), the
+// iliacus by 0.85 mm at 1° steps (43°). Before the guard's changes were carried and the fits
+// clamped at 10 mm such jumps were 19 mm; before the guard kept thinning necks, 2.0 mm
+// (gluteus, 61°) and 3.3 mm (iliacus, 51°). With the scenes' step limit the gluteus has none.
+TEST(GluteusDynamics, NoSurfaceJumpAtOneDegreeStepsWithTheStepLimit) {
+  runFlexion(gluteus(), gluteusAttachments(gluteus()), 1, 80, true, sceneSettings());
 }
 
-TEST(IliacusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeSteps_JumpsUpTo0_9mm_Issue4Open) {
-  runFlexion(iliacus(), iliacusAttachments(iliacus()), 1, 80, true);
+TEST(GluteusDynamics, NoSurfaceJumpAtTenDegreeStepsWithTheStepLimit) {
+  runFlexion(gluteus(), gluteusAttachments(gluteus()), 10, 80, true, sceneSettings());
+}
+
+// With the limit, the iliacus without the scenes' support still moves 0.13 mm too far at 43°: the
+// guard removes a crumb there, which sinks the body beside it, the limit's pull-back raises it
+// and the crumb comes back, three times; the guard has the last word (one piece first).
+TEST(IliacusDynamics, DISABLED_NoSurfaceJumpAtOneDegreeStepsWithTheStepLimit_0_13mmAt43BesideACrumb_Issue4Open) {
+  runFlexion(iliacus(), iliacusAttachments(iliacus()), 1, 80, true, sceneSettings());
 }
 
 }  // namespace

@@ -27,6 +27,11 @@ GaussianField sphereOfRadius(double radius_mm) {
   return f;
 }
 
+/// Every one of `n` centres free, its weight unbounded.
+WeightEditLimits freeLimits(int n) {
+  return {std::vector<bool>(static_cast<size_t>(n), true), Eigen::VectorXd::Constant(n, 1e9)};
+}
+
 StepLimitSettings limitOf(double max_step_mm) {
   StepLimitSettings s;
   s.max_step_mm = max_step_mm;
@@ -38,7 +43,7 @@ StepLimitSettings limitOf(double max_step_mm) {
 // A sphere that would grow by 3 mm in one frame, its bones still, grows by the limit only: the
 // radius is exact (analytic), the limit is the bisection's largest t within 0.5 mm.
 TEST(SurfaceStepLimiter, AGrowthBeyondTheLimitIsTakenBackToIt) {
-  SurfaceStepLimiter limiter(limitOf(0.5));
+  SurfaceStepLimiter limiter(limitOf(0.5), freeLimits(1));
   const GaussianField start = sphereOfRadius(10.0);
   limiter.setPreviousSurface(start, kBox);
   GaussianField end = sphereOfRadius(13.0);
@@ -55,7 +60,7 @@ TEST(SurfaceStepLimiter, AGrowthBeyondTheLimitIsTakenBackToIt) {
 
 // A surface carried 3 mm by its bone is within the limit: only the move beyond the bones' counts.
 TEST(SurfaceStepLimiter, TheBonesOwnMoveIsAllowed) {
-  SurfaceStepLimiter limiter(limitOf(0.5));
+  SurfaceStepLimiter limiter(limitOf(0.5), freeLimits(1));
   const GaussianField start = sphereOfRadius(10.0);
   limiter.setPreviousSurface(start, kBox);
   const Eigen::Isometry3d step(Eigen::Translation3d(3.0, 0.0, 0.0));
@@ -71,30 +76,70 @@ TEST(SurfaceStepLimiter, TheBonesOwnMoveIsAllowed) {
   EXPECT_NE(limiter.run(start, end, kBox, {Eigen::Isometry3d::Identity()}).stop_reason, StepLimitStop::kWithinLimit);
 }
 
+/// The 10 mm sphere with a narrow Gaussian of weight `bump` at (9, 0, 0): 15 pushes the surface
+/// out to about x = 13.4 mm there; 0.01 leaves the sphere as it is.
+GaussianField sphereWithBump(double bump) {
+  GaussianField f = test::makeSphereField();
+  f.addCentre(Eigen::Vector3d(9.0, 0.0, 0.0), bump, 0.1);
+  return f;
+}
+
+// A bump of 3.4 mm that the start already has (the carried field itself jumped), so no scale can
+// take it back: the pull-back lowers it locally to within the limit (here, with one centre to
+// carry the edits, down to the previous surface), and the rest of the sphere
+// stays where it was (its centre is attached, as a muscle's far parts are to the pull-back: other
+// centres peak there). Checked on an independent finer extraction.
+TEST(SurfaceStepLimiter, APointTheScalingCannotTakeBackIsPulledBackLocally) {
+  WeightEditLimits bump_only = freeLimits(2);
+  bump_only.free_mask[0] = false;
+  SurfaceStepLimiter limiter(limitOf(0.5), bump_only);
+  limiter.setPreviousSurface(sphereWithBump(0.01), kBox);
+  const GaussianField start = sphereWithBump(15.0);
+  GaussianField end = start;
+  const StepLimitReport r = limiter.run(start, end, kBox, {Eigen::Isometry3d::Identity()});
+  EXPECT_EQ(r.stop_reason, StepLimitStop::kPulledBack) << toString(r.stop_reason);
+  EXPECT_DOUBLE_EQ(r.full_excess_mm, 2.0);  // capped at 4 × 0.5
+  EXPECT_LE(r.excess_mm, 0.0);
+  EXPECT_GT(r.pull_edits, 0);
+  EXPECT_LE(r.pull_rounds, limitOf(0.5).max_pull_rounds);
+  const MeshDistance previous(extractFieldSurface(sphereWithBump(0.01), kBox, 0.25), false);
+  const TriangleMesh pulled = extractFieldSurface(end, kBox, 0.25);
+  double worst = 0.0;
+  for (int v = 0; v < pulled.countVertices(); ++v)
+    worst = std::max(worst, previous.calcUnsignedDistance(pulled.vertices_mm.col(v)));
+  EXPECT_LE(worst, 0.5 + 0.1);  // the limit, and the two grids' chords
+  EXPECT_NEAR(end.calcValue(Eigen::Vector3d(-10.0, 0.0, 0.0)), 0.0, 1e-3) << "the far side stays";
+  EXPECT_EQ(end.getWeights()(0), start.getWeights()(0)) << "the edit is made where the bump is";
+}
+
 TEST(SurfaceStepLimiter, WithoutAPreviousSurfaceOrWhenOffNothingChanges) {
   const GaussianField start = sphereOfRadius(10.0);
   GaussianField end = sphereOfRadius(13.0);
-  SurfaceStepLimiter fresh(limitOf(0.5));
+  SurfaceStepLimiter fresh(limitOf(0.5), freeLimits(1));
   EXPECT_EQ(fresh.run(start, end, kBox, {}).stop_reason, StepLimitStop::kDisabled);
-  SurfaceStepLimiter off(limitOf(0.0));
+  SurfaceStepLimiter off(limitOf(0.0), freeLimits(1));
   off.setPreviousSurface(start, kBox);
   EXPECT_EQ(off.run(start, end, kBox, {}).stop_reason, StepLimitStop::kDisabled);
   EXPECT_DOUBLE_EQ(sphereRadius(end), 13.0);
 }
 
 TEST(SurfaceStepLimiter, BadInputNamesTheFault) {
+  StepLimitSettings rounds = limitOf(0.5);
+  rounds.max_pull_rounds = -1;
+  EXPECT_THROW(SurfaceStepLimiter(rounds, freeLimits(1)), std::invalid_argument);
+  EXPECT_THROW(SurfaceStepLimiter(limitOf(0.5), WeightEditLimits{{true, true}, Eigen::VectorXd::Ones(1)}), std::invalid_argument);
   StepLimitSettings s = limitOf(0.5);
   s.cell_mm = 0.0;
-  EXPECT_THROW(SurfaceStepLimiter{s}, std::invalid_argument);
+  EXPECT_THROW(SurfaceStepLimiter(s, freeLimits(1)), std::invalid_argument);
   s = limitOf(0.5);
   s.max_trials = 0;
   try {
-    SurfaceStepLimiter{s};
+    SurfaceStepLimiter(s, freeLimits(1));
     FAIL() << "no throw";
   } catch (const std::invalid_argument& e) {
     EXPECT_NE(std::string(e.what()).find("max_trials"), std::string::npos);
   }
-  SurfaceStepLimiter limiter(limitOf(0.5));
+  SurfaceStepLimiter limiter(limitOf(0.5), freeLimits(1));
   const GaussianField start = sphereOfRadius(10.0);
   limiter.setPreviousSurface(start, kBox);
   GaussianField other = test::makeRodField();
