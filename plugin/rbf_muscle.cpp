@@ -295,7 +295,7 @@ void RBFMuscle::update(const FrameState& state) {
   }
   result_.substeps = steps;
   double descent_ms = 0.0, predict_ms = 0.0, volume_ms = 0.0, guard_ms = 0.0, islands = 0.0;
-  double step_excess_mm = 0.0, step_scale = 1.0;
+  double step_excess_mm = 0.0, step_scale = 1.0, step_excess_left_mm = 0.0;
   for (int s = 1; s <= steps; ++s) {
     if (s == steps) {
       step(bone_motion_M_, X_MB_, carried && steps == 1);
@@ -317,6 +317,7 @@ void RBFMuscle::update(const FrameState& state) {
     islands += sub.islands_found;
     step_excess_mm = std::max(step_excess_mm, sub.step_limit.full_excess_mm);
     step_scale = std::min(step_scale, sub.step_limit.scale);
+    step_excess_left_mm = std::max(step_excess_left_mm, sub.step_limit.excess_mm);
   }
   previous_motion_M_ = bone_motion_M_;
   previous_X_MB_ = X_MB_;
@@ -334,6 +335,7 @@ void RBFMuscle::update(const FrameState& state) {
   result_.islands_left = r.islands_left;
   result_.step_excess_mm = step_excess_mm;
   result_.step_scale = step_scale;
+  result_.step_excess_left_mm = step_excess_left_mm;
   if (fibre_tracker_) {
     const FibreFrame& f = fibre_tracker_->update(deformer_->getField(), bone_motion_M_);
     result_.fiber_lengths_mm = f.lengths_mm;

@@ -65,9 +65,11 @@
 ///   max_substeps (int, 8)                 cap on sub-steps per frame of the tunnelling guard
 ///   max_surface_step_mm (double, 0)       no surface point may end further from the previous frame's
 ///                                         surface than the bones move there plus this (mm; 0 = off;
-///                                         the frame's correction is taken back part of the way,
-///                                         core/dynamics/surface_step_limiter.h; outputs step_excess_mm,
-///                                         step_scale)
+///                                         0.5 in the hip scenes): the frame's correction is taken back
+///                                         part of the way and points still beyond are pulled back
+///                                         locally (core/dynamics/surface_step_limiter.h; outputs
+///                                         step_excess_mm, step_scale, step_excess_left_mm). The contact
+///                                         response comes after it and is not limited
 ///   Contacts (core/collision/contact_resolver.h): each probe may stay as deep inside a bone as
 ///   it was at rest (documented rest overlap: the pelvis proxy overlaps the iliacus by up to
 ///   8 mm), only the excess counts and is resolved; a frame in which a bone point near the muscle
@@ -81,7 +83,7 @@
 /// Outputs: volume_mm3, volume_ratio, volume_correction (δ, volume_keeper.h), curvature_cost, iterations (descent),
 ///   update_ms, and of it predict_ms, descent_ms, volume_ms, guard_ms (summed over sub-steps);
 ///   islands_removed, islands_left (topology guard, core/dynamics/topology_guard.h); step_excess_mm,
-///   step_scale (step limit, core/dynamics/surface_step_limiter.h); attached_centres;
+///   step_scale, step_excess_left_mm (step limit, core/dynamics/surface_step_limiter.h); attached_centres;
 ///   fiber_length_mm (vector, one per fibre, columns fiber_length_mm_i), fiber_length_mean_mm,
 ///   fiber_length_min_mm, fiber_length_max_mm, fiber_length_normalised (mean / rest mean),
 ///   fiber_projections (fibre points, ends included, pushed back inside this frame; core/fibres/fibre_tracker.h),
@@ -207,6 +209,10 @@ class RBFMuscle final : public Component {
   Output step_scale{this, "step_scale", "1",
                     "part of the frame's correction kept by the step limit (1: all; min over sub-steps)",
                     [this] { return result_.step_scale; }};
+  Output step_excess_left_mm{this, "step_excess_left_mm", "mm",
+                             "the same as step_excess_mm after the step limit, before the contact response "
+                             "(0 when within; max over sub-steps)",
+                             [this] { return result_.step_excess_left_mm; }};
   Output islands_left{this, "islands_left", "1", "islands and cavities left (0 unless the guard hit its cap)",
                       [this] { return result_.islands_left; }};
   Output attached_centres{this, "attached_centres", "1", "centres moving rigidly with a bone",
@@ -283,6 +289,7 @@ class RBFMuscle final : public Component {
     double islands_left = kNaN;
     double step_excess_mm = kNaN;  ///< mm
     double step_scale = kNaN;
+    double step_excess_left_mm = kNaN;  ///< mm
     double attached_centres = kNaN;
     Eigen::VectorXd fiber_lengths_mm;  ///< per fibre (mm); size fixed in initialize
     double fiber_length_mean_mm = kNaN;

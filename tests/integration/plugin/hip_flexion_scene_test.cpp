@@ -4,7 +4,8 @@
 /// length by more than 1 % between 1° frames), every point inside, ends within 0.5 mm of
 /// their bone's motion (fibres_test.cpp checks the same at 10° frames); and issue 5: with the
 /// contact response every probe of either muscle within 0.5 mm of the bones (beyond the rest
-/// overlap) at every frame, where the deformer alone presses the iliacus deeper.
+/// overlap) at every frame, where the deformer alone presses the iliacus deeper; and issue 4:
+/// no surface point moves further between frames than the femur moves there plus 1 mm.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -15,6 +16,8 @@
 #include <string>
 #include <vector>
 
+#include "framework/frame_geometry.h"
+#include "geometry/mesh_distance.h"
 #include "model/storage_file.h"
 #include "support/run_host.h"
 
@@ -23,12 +26,46 @@ namespace {
 
 namespace fs = std::filesystem;
 
+/// Issue 4's jump check on the surfaces a --frames-mesh run wrote (ground = CT frame, mm): per
+/// frame k ≥ 1, the largest excess over the vertices y of frame k of dist(y, surface of frame
+/// k − 1) − (2 r sin(Δθ/2) + 1 mm), the femur's own move at y (r: distance from the flexion axis,
+/// Δθ = 1°) plus 1 mm, as scripts/surface_jumps.py measures it (≤ 0: no jump).
+std::vector<double> calcFrameJumps(const fs::path& meshes, const std::string& muscle, int frames) {
+  const Eigen::Vector3d hip_mm(143.225, 243.37, -432.499);  // models/hip/landmarks/hip_frame.json
+  const Eigen::Vector3d axis = Eigen::Vector3d(-0.9924778435393229, 0.11879490607095865, 0.029588855590025775).normalized();
+  const double step_rad = M_PI / 180.0;
+  const auto surface = [&](int frame) {
+    char file[32];
+    std::snprintf(file, sizeof file, "_%05d.vtp", frame);
+    const FrameGeometry g = readVtp((meshes / (muscle + file)).string());
+    TriangleMesh mesh;
+    mesh.vertices_mm = g.vertices_mm;
+    mesh.triangles = g.triangles;
+    return mesh;
+  };
+  std::vector<double> jumps(static_cast<size_t>(frames), 0.0);
+  TriangleMesh previous = surface(0);
+  for (int k = 1; k < frames; ++k) {
+    TriangleMesh current = surface(k);
+    const MeshDistance to_previous(std::move(previous), false);
+    double worst = -1e9;
+    for (int v = 0; v < current.countVertices(); ++v) {
+      const Eigen::Vector3d y = current.vertices_mm.col(v), u = y - hip_mm;
+      const double r_mm = (u - u.dot(axis) * axis).norm();
+      worst = std::max(worst, to_previous.calcUnsignedDistance(y) - (2.0 * r_mm * std::sin(0.5 * step_rad) + 1.0));
+    }
+    jumps[static_cast<size_t>(k)] = worst;
+    previous = std::move(current);
+  }
+  return jumps;
+}
+
 TEST(HipFlexionScene, FibresContinuousInsideAndOnTheirBonesVolumeKeptAndOutOfTheBonesEveryFrame) {
   const std::string tag = "hip_flexion_scene_" + std::to_string(::getpid());
   const fs::path out = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin" / tag;
   fs::remove_all(out);
   const fs::path model = fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip/hip_flexion.xml";
-  const test::HostResult result = test::runHost("run '" + model.string() + "' -o '" + out.string() + "' --quiet",
+  const test::HostResult result = test::runHost("run '" + model.string() + "' -o '" + out.string() + "' --quiet --frames-mesh",
                                                 "plugin", tag);
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const StorageTable table = readStorage((out / "outputs.sto").string());
@@ -85,6 +122,20 @@ TEST(HipFlexionScene, FibresContinuousInsideAndOnTheirBonesVolumeKeptAndOutOfThe
     if (muscle == "iliacus_r") {
       EXPECT_GT(worst_before, 0.5) << "the response had nothing to do";
     }
+    // Issue 4: no jump. The step limit (0.5 mm beyond the bones' move) holds it for the deformer;
+    // the contact response comes after it, and where it pushes the iliacus out of the femur the
+    // surface still moves further (up to 0.45 mm beyond the femur's move + 1 mm): those frames
+    // are reported, not checked (issue 4 stays open for them).
+    const std::vector<double> jumps = calcFrameJumps(out / "meshes", muscle, static_cast<int>(table.rows.size()));
+    const int pushes = column(muscle + ".contact_iterations");
+    double worst_jump = 0.0, worst_pushed = 0.0;
+    for (size_t row = 1; row < table.rows.size(); ++row) {
+      const bool pushed = table.rows[row][static_cast<size_t>(pushes)] > 0.0;
+      (pushed ? worst_pushed : worst_jump) = std::max(pushed ? worst_pushed : worst_jump, jumps[row]);
+      if (!pushed) EXPECT_LE(jumps[row], 0.0) << muscle << " jumps at frame " << row;
+    }
+    std::printf("%s: worst jump beyond the femur's move + 1 mm %.3f mm; in frames the contact response pushed %.3f mm\n",
+                muscle.c_str(), worst_jump, worst_pushed);
   }
   fs::remove_all(out);
 }
