@@ -224,7 +224,7 @@ void MuscleDeformer::settleStep() {
   // The limited field may have split a piece off or opened a cavity (the scaling refuses that,
   // a pull-back can do it): the guard repairs it, and its repair may in turn move points beyond
   // the limit (a bridge where there was none). In turn, at most kSettlePasses times, ending with
-  // the guard: one piece comes first, and step_limit.excess_mm says what is left.
+  // the guard: one piece comes first (step_limit.excess_mm is the pull-back's last measure).
   constexpr int kSettlePasses = 3;
   for (int pass = 0;; ++pass) {
     limited_surface_is_current_ = runGuard().weights_changed == 0;
