@@ -65,11 +65,12 @@
 ///   max_substeps (int, 8)                 cap on sub-steps per frame of the tunnelling guard
 ///   max_surface_step_mm (double, 0)       no surface point may end further from the previous frame's
 ///                                         surface than the bones move there plus this (mm; 0 = off;
-///                                         0.5 in the hip scenes): the frame's correction is taken back
-///                                         part of the way and points still beyond are pulled back
-///                                         locally (core/dynamics/surface_step_limiter.h; outputs
-///                                         step_excess_mm, step_scale, step_excess_left_mm). The contact
-///                                         response comes after it and is not limited
+///                                         0.5 in the hip scenes, the gluteus only in flexion): the
+///                                         frame's correction is taken back part of the way and
+///                                         points still beyond are pulled back locally
+///                                         (core/dynamics/surface_step_limiter.h; outputs
+///                                         step_excess_mm, step_scale, step_excess_left_mm). The
+///                                         contact response comes after it and is not limited
 ///   Contacts (core/collision/contact_resolver.h): each probe may stay as deep inside a bone as
 ///   it was at rest (documented rest overlap: the pelvis proxy overlaps the iliacus by up to
 ///   8 mm), only the excess counts and is resolved; a frame in which a bone point near the muscle

@@ -22,7 +22,7 @@ namespace rbfmuscle {
 struct StepLimitSettings {
   /// Slack (mm) beyond the bones' own move that a surface point may move in one update; ≤ 0
   /// (default): off. The limit costs an extraction of the surface per update and more when it
-  /// acts (models/hip/README.md: 0.5 on both muscles of the hip scenes).
+  /// acts (models/hip/README.md: 0.5 on both muscles of the hip flexion scene).
   double max_step_mm = 0.0;
   /// Grid spacing of the surfaces compared (mm, > 0); the default is the output surfaces'.
   double cell_mm = 2.0;
