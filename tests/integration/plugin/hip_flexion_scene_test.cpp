@@ -19,6 +19,7 @@
 #include "framework/frame_geometry.h"
 #include "geometry/mesh_distance.h"
 #include "model/storage_file.h"
+#include "support/flexion_jump.h"
 #include "support/run_host.h"
 
 namespace rbfmuscle {
@@ -28,11 +29,8 @@ namespace fs = std::filesystem;
 
 /// Issue 4's jump check on the surfaces a --frames-mesh run wrote (ground = CT frame, mm): per
 /// frame k ≥ 1, the largest excess over the vertices y of frame k of dist(y, surface of frame
-/// k − 1) − (2 r sin(Δθ/2) + 1 mm), the femur's own move at y (r: distance from the flexion axis,
-/// Δθ = 1°) plus 1 mm, as scripts/surface_jumps.py measures it (≤ 0: no jump).
+/// k − 1) minus the femur's own move at y plus 1 mm (support/flexion_jump.h, Δθ = 1°) (≤ 0: no jump).
 std::vector<double> calcFrameJumps(const fs::path& meshes, const std::string& muscle, int frames) {
-  const Eigen::Vector3d hip_mm(143.225, 243.37, -432.499);  // models/hip/landmarks/hip_frame.json
-  const Eigen::Vector3d axis = Eigen::Vector3d(-0.9924778435393229, 0.11879490607095865, 0.029588855590025775).normalized();
   const double step_rad = M_PI / 180.0;
   const auto surface = [&](int frame) {
     char file[32];
@@ -50,9 +48,8 @@ std::vector<double> calcFrameJumps(const fs::path& meshes, const std::string& mu
     const MeshDistance to_previous(std::move(previous), false);
     double worst = -1e9;
     for (int v = 0; v < current.countVertices(); ++v) {
-      const Eigen::Vector3d y = current.vertices_mm.col(v), u = y - hip_mm;
-      const double r_mm = (u - u.dot(axis) * axis).norm();
-      worst = std::max(worst, to_previous.calcUnsignedDistance(y) - (2.0 * r_mm * std::sin(0.5 * step_rad) + 1.0));
+      const Eigen::Vector3d y = current.vertices_mm.col(v);
+      worst = std::max(worst, to_previous.calcUnsignedDistance(y) - test::calcJumpAllowance_mm(y, test::kHipCentre_CT_mm, step_rad));
     }
     jumps[static_cast<size_t>(k)] = worst;
     previous = std::move(current);
@@ -131,8 +128,11 @@ TEST(HipFlexionScene, FibresContinuousInsideAndOnTheirBonesVolumeKeptAndOutOfThe
     double worst_jump = 0.0, worst_pushed = 0.0;
     for (size_t row = 1; row < table.rows.size(); ++row) {
       const bool pushed = table.rows[row][static_cast<size_t>(pushes)] > 0.0;
-      (pushed ? worst_pushed : worst_jump) = std::max(pushed ? worst_pushed : worst_jump, jumps[row]);
-      if (!pushed) EXPECT_LE(jumps[row], 0.0) << muscle << " jumps at frame " << row;
+      double& worst = pushed ? worst_pushed : worst_jump;
+      worst = std::max(worst, jumps[row]);
+      if (!pushed) {
+        EXPECT_LE(jumps[row], 0.0) << muscle << " jumps at frame " << row;
+      }
     }
     std::printf("%s: worst jump beyond the femur's move + 1 mm %.3f mm; in frames the contact response pushed %.3f mm\n",
                 muscle.c_str(), worst_jump, worst_pushed);

@@ -9,6 +9,7 @@
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
+#include "support/flexion_jump.h"
 
 #include <gtest/gtest.h>
 
@@ -129,9 +130,8 @@ void runFlexion(const RbfSurface& s, const Attachments& att, int step_deg, int l
   MuscleDeformer d(s.field, att, settings);
   TriangleMesh previous = d.extractSurface(2.0);
   ASSERT_EQ(checkMesh(previous).components, 1) << "rest";
-  const Eigen::Vector3d hip = Eigen::Vector3d(143.225, 243.37, -432.499) - s.frame_offset_mm;
-  const Eigen::Vector3d flexion_axis =
-      Eigen::Vector3d(-0.9924778435393229, 0.11879490607095865, 0.029588855590025775).normalized();  // pelvis Z
+  const Eigen::Vector3d hip = test::kHipCentre_CT_mm - s.frame_offset_mm;
+  const Eigen::Vector3d& flexion_axis = test::kFlexionAxis_CT;  // the same in M (a translation of CT)
   const double step_rad = step_deg * M_PI / 180.0;
   for (int deg = step_deg; deg <= last_deg; deg += step_deg) {
     const std::vector<Eigen::Isometry3d> motion = {Eigen::Isometry3d::Identity(),
@@ -162,9 +162,7 @@ void runFlexion(const RbfSurface& s, const Attachments& att, int step_deg, int l
     double worst_mm = 0.0;
     for (int v = 0; v < surface.countVertices(); v += 10) {
       const Eigen::Vector3d p = surface.vertices_mm.col(v);
-      const Eigen::Vector3d from_axis = p - hip;
-      const double r_mm = (from_axis - from_axis.dot(flexion_axis) * flexion_axis).norm();
-      const double excess = to_previous.calcUnsignedDistance(p) - (2.0 * r_mm * std::sin(0.5 * step_rad) + 1.0);
+      const double excess = to_previous.calcUnsignedDistance(p) - test::calcJumpAllowance_mm(p, hip, step_rad);
       worst_mm = std::max(worst_mm, excess);
       if (excess > 0.0) ++jumps;
     }
