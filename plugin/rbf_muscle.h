@@ -70,7 +70,9 @@
 ///                                         points still beyond are pulled back locally
 ///                                         (core/dynamics/surface_step_limiter.h; outputs
 ///                                         step_excess_mm, step_scale, step_excess_left_mm). The
-///                                         contact response comes after it and is not limited
+///                                         contact response comes after it and is not limited;
+///                                         its push leaves the probes it moves 0.1 mm inside
+///                                         contact_tolerance_mm, a push about the bone's advance
 ///   Contacts (core/collision/contact_resolver.h): each probe may stay as deep inside a bone as
 ///   it was at rest (documented rest overlap: the pelvis proxy overlaps the iliacus by up to
 ///   8 mm), only the excess counts and is resolved; a frame in which a bone point near the muscle

@@ -50,7 +50,7 @@ void checkSettings(const ContactSettings& s) {
   requirePositive(s.thickness_step_mm, "thickness_step_mm");
   requirePositive(s.thickness_max_mm, "thickness_max_mm");
   requirePositive(s.cover_radius_mm, "cover_radius_mm");
-  if (!(s.margin_mm >= 0.0)) throw CollisionError("ContactSettings: margin_mm = " + std::to_string(s.margin_mm) + ", expected ≥ 0");
+  requirePositive(s.aim_below_tolerance_mm, "aim_below_tolerance_mm");
   if (!(s.query_band_mm >= 0.0))
     throw CollisionError("ContactSettings: query_band_mm = " + std::to_string(s.query_band_mm) + ", expected ≥ 0");
   if (s.max_iterations < 0 || s.newton_steps < 0 || s.max_substeps < 1 || s.max_reseats < 0)
@@ -751,10 +751,13 @@ void ContactResolver::watchBoneVertices(const GaussianField& field) {
 }
 
 bool ContactResolver::respondOnce(GaussianField& field, double step_limit_mm) {
-  // Active probes (beyond their allowance), deepest first.
+  // The excess depth the push aims at, and the active probes (deeper than both it and their
+  // allowance), deepest first.
+  const double aim_mm = settings_.tolerance_mm - settings_.aim_below_tolerance_mm;
+  const double active_above_mm = std::max(0.0, aim_mm);
   active_.clear();
   for (int i = 0; i < countProbes(); ++i)
-    if (excess_mm_(i) > 0.0 && exit_normal_M_.col(i).squaredNorm() > 0.0) active_.push_back(i);
+    if (excess_mm_(i) > active_above_mm && exit_normal_M_.col(i).squaredNorm() > 0.0) active_.push_back(i);
   if (active_.empty()) return false;
   std::sort(active_.begin(), active_.end(), [&](int a, int b) { return excess_mm_(a) > excess_mm_(b); });
   // Length L of the push: block_fraction of the local rest thickness (median over the active
@@ -783,8 +786,8 @@ bool ContactResolver::respondOnce(GaussianField& field, double step_limit_mm) {
   // and the surface along its unit gradient ĝ by t = −Δf(p)/‖∇f(p)‖, to first order
   // Δf(p) = Σ_k ∂f(p)/∂ξ_k · u_k. The probe's signed distance to its bone then grows by
   //   Δs_a = n_a·(v − (ĝ·v) ĝ) + c_a t_a,  c_a = ĝ_a·n_a,
-  // linear in γ: Δs_a = A_a γ. Rows ask Δs_a = e_a + margin, solved in the damped
-  // least-squares sense (AᵀA + μ tr(AᵀA)/m I) γ = Aᵀ(e + margin).
+  // linear in γ: Δs_a = A_a γ. Rows ask Δs_a = e_a − aim, solved in the damped
+  // least-squares sense (AᵀA + μ tr(AᵀA)/m I) γ = Aᵀ(e − aim).
   ActiveCentres active;
   Eigen::VectorXd carry;
   // ψ_k(p_b) of every free centre (0 beyond 3 widths), one column per row, made as rows join.
@@ -841,12 +844,13 @@ bool ContactResolver::respondOnce(GaussianField& field, double step_limit_mm) {
     return true;
   };
   // Probes near contact (queried, within query_band_mm of their bone, not active) must not be
-  // pushed in: after a solve, those predicted to end deeper than the tolerance join the rows
-  // with their own target (an active-set pass for the inequalities Δs ≥ e + margin).
+  // pushed in: after a solve, those predicted to end deeper than the aim join the rows
+  // with their own target (an active-set pass for the inequalities Δs ≥ e − aim).
   const double reach2 = 9.0 * (L * L + 1.0 / alpha.minCoeff());  // no centre within 3 widths of a row: no move
   near_.clear();
   for (int i = 0; i < countProbes(); ++i)
-    if (excess_mm_(i) <= 0.0 && excess_mm_(i) > -settings_.query_band_mm && exit_normal_M_.col(i).squaredNorm() > 0.0)
+    if (excess_mm_(i) <= active_above_mm && excess_mm_(i) > -settings_.query_band_mm &&
+        exit_normal_M_.col(i).squaredNorm() > 0.0)
       near_.push_back(i);
   constexpr int kActiveSetPasses = 3;
   Eigen::VectorXd gamma;
@@ -858,7 +862,7 @@ bool ContactResolver::respondOnce(GaussianField& field, double step_limit_mm) {
     Eigen::VectorXd delta(m);
     for (int a = 0; a < m; ++a) {
       const int i = rows_[static_cast<size_t>(a)];
-      delta(a) = excess_mm_(i) + settings_.margin_mm;
+      delta(a) = excess_mm_(i) - aim_mm;
       row_buffer.resize(m);
       if (makeRow(i, row_buffer)) A.row(a) = row_buffer;
     }
@@ -877,7 +881,7 @@ bool ContactResolver::respondOnce(GaussianField& field, double step_limit_mm) {
       for (int b = 0; b < m && !reached; ++b)
         reached = (probes_M_.col(i) - probes_M_.col(rows_[static_cast<size_t>(b)])).squaredNorm() <= reach2;
       if (covered || !reached || !makeRow(i, candidate_row)) continue;
-      if (candidate_row.dot(gamma) < excess_mm_(i) + settings_.margin_mm - settings_.tolerance_mm) added.push_back(i);
+      if (candidate_row.dot(gamma) < excess_mm_(i) - aim_mm) added.push_back(i);
     }
     if (added.empty()) break;
     const int from = static_cast<int>(rows_.size());

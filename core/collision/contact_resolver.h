@@ -38,8 +38,11 @@ struct ContactSettings {
   /// Accepted penetration beyond the rest overlap (mm): the response stops once every
   /// probe's excess depth e = −s − a ≤ this (s signed distance, a allowance, see class).
   double tolerance_mm = 0.5;
-  /// Extra inward move of the surface at a constrained probe beyond its excess depth (mm).
-  double margin_mm = 0.1;
+  /// How far below the tolerance a push aims (mm, > 0): the probes it moves are asked to end
+  /// tolerance_mm − this deep (excess depth), so a bone pressing on gets a small push each frame
+  /// instead of a push out of the bone now and then (class comment, Response). Above
+  /// tolerance_mm the push aims outside the bone.
+  double aim_below_tolerance_mm = 0.1;
   /// Cap on response iterations (re-project, re-query, solve) per resolve call.
   int max_iterations = 10;
   /// Newton steps per projection of a probe onto f = 0, each at most newton_step_cap_mm.
@@ -175,25 +178,29 @@ struct ContactReport {
 /// **Response** (respond = true): a smooth push of the muscle out of the bones, moving free
 /// centres only. Each call first measures as when measuring only; only if that finds a probe
 /// beyond the tolerance does it measure again with the query band (the near probes the
-/// inequalities need) and push (most frames need no push: iliacus, 1° frames, 0 iterations
-/// median). While some e_i = max_b e_ib > tolerance, each iteration:
-///  1. rows: the probes with e_i > 0 (deepest first, one per cluster of radius L/2), n_i the
-///     outward normal of the probe's deepest bone; L = block_fraction × the median rest
-///     thickness of those probes, so a push moves the muscle's cross-section as a block
-///     instead of denting its surface (a dent changes the curvature, which the deformer's
-///     next descent undoes; with L = thickness the 1°-frame iliacus loses about half as much
-///     of the push to the next descent as with the former dent-shaped minimum-norm step);
+/// inequalities need) and push. While some e_i = max_b e_ib > tolerance, each iteration:
+///  1. rows: the probes with e_i > max(0, aim), aim = tolerance − aim_below_tolerance_mm (deepest
+///     first, one per cluster of radius L/2), n_i the outward normal of the probe's deepest
+///     bone; L = block_fraction × the median rest thickness of those probes, so a push moves
+///     the muscle's cross-section as a block instead of denting its surface (a dent changes the
+///     curvature, which the deformer's next descent undoes; with L = thickness the 1°-frame
+///     iliacus loses about half as much of the push to the next descent as with the former
+///     dent-shaped minimum-norm step);
 ///  2. displacement: free centre k moves by u_k = Σ_b ψ_k(p_b) γ_b n_b,
 ///     ψ_k(p) = exp(−‖ξ_k − p‖²/(L² + 1/α_k)) (the push covers each centre's own footprint);
 ///  3. exact first-order model: the probes are material points (a probe moves by the mean move
 ///     of the centres active at it, weighted by |λ_k φ_k(p)|), and the surface moves along its
 ///     unit gradient ĝ by t = −Δf(p)/‖∇f(p)‖, Δf(p) = Σ_k ∂f(p)/∂ξ_k · u_k, so probe a's signed
 ///     distance grows by Δs_a = n_a·(v_a − (ĝ_a·v_a) ĝ_a) + (ĝ_a·n_a) t_a = A_a γ. The rows ask
-///     Δs_a = e_a + margin: (AᵀA + μ tr(AᵀA)/m I) γ = Aᵀ(e + margin), μ = damping. (The former
+///     Δs_a = e_a − aim: (AᵀA + μ tr(AᵀA)/m I) γ = Aᵀ(e − aim), μ = damping. Aiming just inside
+///     the tolerance rather than outside the bone: a bone that keeps pressing gets a push as
+///     small as its own advance each frame; pushed 0.1 mm out of the bone, the iliacus of the main job
+///     was pushed by about 0.6 mm now and then, its far side with it, and the surface jumped up to 0.45 mm
+///     beyond the femur's move + 1 mm in three frames (issue 4; models/hip/README.md). (The former
 ///     rows f_new(p + δn) = 0 with re-projection along ∇f only gained δ c² per iteration,
 ///     c = cos(∇f, n): 9 % for the clamped c = 0.3, which is why they stalled on the iliacus.)
 ///  4. inequalities: probes near contact (within query_band_mm, not in a row) predicted to end
-///     deeper than the tolerance join the rows with target e + margin and the system is solved
+///     deeper than the aim join the rows with target e − aim and the system is solved
 ///     again (an active-set pass, at most 3 solves), so a push out of one wall of a concave
 ///     bone does not push the muscle into the other;
 ///  5. trust region: the step is scaled so no centre moves more than a limit that starts at

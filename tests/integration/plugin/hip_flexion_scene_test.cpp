@@ -119,23 +119,16 @@ TEST(HipFlexionScene, FibresContinuousInsideAndOnTheirBonesVolumeKeptAndOutOfThe
     if (muscle == "iliacus_r") {
       EXPECT_GT(worst_before, 0.5) << "the response had nothing to do";
     }
-    // Issue 4: no jump. The step limit (0.5 mm beyond the bones' move) holds it for the deformer;
-    // the contact response comes after it, and where it pushes the iliacus out of the femur the
-    // surface still moves further (up to 0.45 mm beyond the femur's move + 1 mm): those frames
-    // are reported, not checked (issue 4 stays open for them).
+    // Issue 4: no jump, at any frame. The step limit (0.5 mm beyond the bones' move) holds it for
+    // the deformer; the contact response after it pushes the iliacus no deeper than just inside
+    // the tolerance, so a push is about as large as the femur's advance (contact_resolver.h).
     const std::vector<double> jumps = calcFrameJumps(out / "meshes", muscle, static_cast<int>(table.rows.size()));
-    const int pushes = column(muscle + ".contact_iterations");
-    double worst_jump = 0.0, worst_pushed = 0.0;
+    double worst_jump = 0.0;
     for (size_t row = 1; row < table.rows.size(); ++row) {
-      const bool pushed = table.rows[row][static_cast<size_t>(pushes)] > 0.0;
-      double& worst = pushed ? worst_pushed : worst_jump;
-      worst = std::max(worst, jumps[row]);
-      if (!pushed) {
-        EXPECT_LE(jumps[row], 0.0) << muscle << " jumps at frame " << row;
-      }
+      worst_jump = std::max(worst_jump, jumps[row]);
+      EXPECT_LE(jumps[row], 0.0) << muscle << " jumps at frame " << row;
     }
-    std::printf("%s: worst jump beyond the femur's move + 1 mm %.3f mm; in frames the contact response pushed %.3f mm\n",
-                muscle.c_str(), worst_jump, worst_pushed);
+    std::printf("%s: worst jump beyond the femur's move + 1 mm %.3f mm\n", muscle.c_str(), worst_jump);
   }
   fs::remove_all(out);
 }

@@ -4,6 +4,7 @@
 /// interpolation it relies on.
 #include "collision/contact_resolver.h"
 
+#include <algorithm>
 #include <cmath>
 #include <utility>
 
@@ -97,6 +98,42 @@ TEST(ContactResolver, DeepPressIsResolvedInAFewIterations) {
   const double top = field.getCentres()(1, 0) + kRadius;
   EXPECT_LE(top, kRadius - 4.0 + 0.5);
   EXPECT_GE(top, kRadius - 4.0 - 1.0);
+}
+
+TEST(ContactResolver, PushAimsJustInsideTheToleranceSoASlowPressGetsSmallPushes) {
+  // A box face enters the sphere's top by 0.3 mm a frame. A push leaves the top
+  // tolerance − aim_below_tolerance_mm deep (0.4 mm by default): the sphere then moves by
+  // the face's advance, never more. Aimed 0.1 mm outside the bone instead (the former rule),
+  // the first push moves it by 0.7 mm at once (the far side with it: issue 4's jumps).
+  const double half = 50.0, advance = 0.3;
+  for (const double aim_below : {0.1, 0.6}) {
+    ContactSettings settings;
+    settings.aim_below_tolerance_mm = aim_below;
+    GaussianField field = makeTwoSpheres();
+    ContactResolver resolver({ContactBone{"bone", makeBox(half, half), translationY(kRadius + half)}}, field,
+                             makeProbes(300), {true, false}, settings);
+    const Eigen::Matrix3Xd carried = makeProbes(300);
+    double largest_move = 0.0;
+    int pushes = 0;
+    for (int frame = 1; frame <= 8; ++frame) {
+      const double face_y = kRadius - advance * frame;
+      const double before = field.getCentres()(1, 0);
+      const ContactReport& r = resolver.resolve({translationY(face_y + half)}, carried, field, true);
+      ASSERT_EQ(r.stop, ContactStop::kWithinTolerance) << "frame " << frame;
+      const double depth = field.getCentres()(1, 0) + kRadius - face_y;
+      if (r.iterations > 0) {
+        ++pushes;
+        EXPECT_NEAR(depth, settings.tolerance_mm - aim_below, 0.05) << "frame " << frame << ", aim below " << aim_below;
+      }
+      EXPECT_LE(depth, settings.tolerance_mm + 1e-9) << "frame " << frame;
+      largest_move = std::max(largest_move, before - field.getCentres()(1, 0));
+    }
+    EXPECT_GE(pushes, 2) << "aim below " << aim_below;
+    if (aim_below < settings.tolerance_mm)
+      EXPECT_LE(largest_move, advance + 0.05);
+    else
+      EXPECT_NEAR(largest_move, 0.6 + aim_below - settings.tolerance_mm, 0.05);  // 0.6 deep, pushed 0.1 out
+  }
 }
 
 TEST(ContactResolver, ResolveFromCopiesOnlyToPushAndMatchesResolve) {
@@ -384,6 +421,15 @@ TEST(ContactResolver, BadInputNamesTheFault) {
   EXPECT_THROW(ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10),
                                {true, false}, no_cover),
                CollisionError);
+  ContactSettings no_aim;
+  no_aim.aim_below_tolerance_mm = 0.0;  // a push aimed at the tolerance itself need never end
+  try {
+    ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10), {true, false},
+                    no_aim);
+    FAIL() << "expected CollisionError";
+  } catch (const CollisionError& e) {
+    EXPECT_NE(std::string(e.what()).find("aim_below_tolerance_mm"), std::string::npos) << e.what();
+  }
   try {
     ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10), {true, false},
                     settings);
