@@ -194,9 +194,10 @@ struct ContactReport {
 ///     distance grows by Δs_a = n_a·(v_a − (ĝ_a·v_a) ĝ_a) + (ĝ_a·n_a) t_a = A_a γ. The rows ask
 ///     Δs_a = e_a − aim: (AᵀA + μ tr(AᵀA)/m I) γ = Aᵀ(e − aim), μ = damping. Aiming just inside
 ///     the tolerance rather than outside the bone: a bone that keeps pressing gets a push as
-///     small as its own advance each frame; pushed 0.1 mm out of the bone, the iliacus of the main job
-///     was pushed by about 0.6 mm now and then, its far side with it, and the surface jumped up to 0.45 mm
-///     beyond the femur's move + 1 mm in three frames (issue 4; models/hip/README.md). (The former
+///     small as its own advance each frame; pushed 0.1 mm out of the bone, the iliacus of the
+///     main job was pushed by about 0.6 mm now and then, its far side with it, and its surface
+///     jumped up to 0.45 mm beyond the femur's move + 1 mm in three frames (issue 4;
+///     models/hip/README.md, "Contact push aimed inside the tolerance"). (The former
 ///     rows f_new(p + δn) = 0 with re-projection along ∇f only gained δ c² per iteration,
 ///     c = cos(∇f, n): 9 % for the clamped c = 0.3, which is why they stalled on the iliacus.)
 ///  4. inequalities: probes near contact (within query_band_mm, not in a row) predicted to end
