@@ -414,29 +414,25 @@ TEST(ContactResolver, BoneOverlappingTheMuscleAtRestIsNotWatchedThere) {
 
 TEST(ContactResolver, BadInputNamesTheFault) {
   const GaussianField field = makeTwoSpheres();
+  // Each bad setting is rejected with its name in the message.
+  const auto expectRejected = [&](const ContactSettings& settings, const std::string& name) {
+    try {
+      ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10), {true, false},
+                      settings);
+      ADD_FAILURE() << "expected CollisionError naming " << name;
+    } catch (const CollisionError& e) {
+      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+    }
+  };
   ContactSettings settings;
   settings.tolerance_mm = -1.0;
-  ContactSettings no_cover;
-  no_cover.cover_radius_mm = 0.0;
-  EXPECT_THROW(ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10),
-                               {true, false}, no_cover),
-               CollisionError);
-  ContactSettings no_aim;
-  no_aim.aim_below_tolerance_mm = 0.0;  // a push aimed at the tolerance itself need never end
-  try {
-    ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10), {true, false},
-                    no_aim);
-    FAIL() << "expected CollisionError";
-  } catch (const CollisionError& e) {
-    EXPECT_NE(std::string(e.what()).find("aim_below_tolerance_mm"), std::string::npos) << e.what();
-  }
-  try {
-    ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10), {true, false},
-                    settings);
-    FAIL() << "expected CollisionError";
-  } catch (const CollisionError& e) {
-    EXPECT_NE(std::string(e.what()).find("tolerance_mm"), std::string::npos) << e.what();
-  }
+  expectRejected(settings, "tolerance_mm");
+  settings = {};
+  settings.cover_radius_mm = 0.0;
+  expectRejected(settings, "cover_radius_mm");
+  settings = {};
+  settings.aim_below_tolerance_mm = 0.0;  // a push aimed at the tolerance itself need never end
+  expectRejected(settings, "aim_below_tolerance_mm");
   EXPECT_THROW(ContactResolver({ContactBone{"bone", makeBox(5, 5), translationY(50)}}, field, makeProbes(10), {true}),
                CollisionError);
   EXPECT_THROW(ContactResolver({}, field, makeProbes(10), {true, false}), CollisionError);
