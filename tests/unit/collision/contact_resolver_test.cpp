@@ -421,7 +421,8 @@ TEST(ContactResolver, BadInputNamesTheFault) {
                       settings);
       ADD_FAILURE() << "expected CollisionError naming " << name;
     } catch (const CollisionError& e) {
-      EXPECT_NE(std::string(e.what()).find(name), std::string::npos) << e.what();
+      // "ContactSettings: <name> =": "tolerance_mm" alone would also match "aim_below_tolerance_mm".
+      EXPECT_NE(std::string(e.what()).find("ContactSettings: " + name + " ="), std::string::npos) << e.what();
     }
   };
   ContactSettings settings;
