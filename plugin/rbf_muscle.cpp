@@ -178,6 +178,7 @@ void RBFMuscle::initialize(const InitContext& context) {
   settings.volume.enabled = keep_volume.get();
   settings.volume.tolerance = volume_tolerance.get();
   settings.topology.neck_level = neck_level.get();
+  settings.topology.crumb_join_level = crumb_join_level.get();
   settings.step_limit.max_step_mm = max_surface_step_mm.get();
   settings.step_limit.cell_mm = surface_cell_mm.get();
   deformer_ = std::make_unique<MuscleDeformer>(field, attachments, settings);

@@ -35,6 +35,9 @@
 ///   volume_tolerance (double, 1e-3)       |V/V_rest − 1| accepted
 ///   neck_level (double, 0.2)              the island guard raises a thinning neck below this f
 ///                                         (field unit; 0 = off; core/dynamics/topology_guard.h)
+///   crumb_join_level (double, 0.05)       a crumb of the surface beside the body across a shallow
+///                                         dip is joined with its gap raised to this f, when that is
+///                                         a smaller change than removing it (0 = always removed)
 ///   surface_cell_mm (double, 2)           grid cell of the surface written with --frames-mesh
 ///   fibres (int, 100)                     N fibres from origin to insertion through the volume
 ///                                         (core/fibres/fibre_generator.h; 0 = none); their ends
@@ -161,6 +164,10 @@ class RBFMuscle final : public Component {
   Property<double> neck_level{this, "neck_level", TopologySettings{}.neck_level,
                               "f below which the island guard raises a thinning neck (field unit, 0 = off)",
                               PropertyRange{0.0, 10.0}};
+  Property<double> crumb_join_level{this, "crumb_join_level", TopologySettings{}.crumb_join_level,
+                                    "f to which the island guard raises the dip between a crumb and the body "
+                                    "when that is a smaller change than removing it (field unit, 0 = never)",
+                                    PropertyRange{0.0, 10.0}};
   Property<double> max_surface_step_mm{this, "max_surface_step_mm", StepLimitSettings{}.max_step_mm,
                                        "largest move of the surface per frame beyond where the bones carry it "
                                        "(mm, 0 = no limit)",

@@ -67,6 +67,10 @@ TopologyGuard::TopologyGuard(std::vector<bool> free_mask, Eigen::VectorXd max_ab
   if (!(settings.margin >= 0.0) || !std::isfinite(settings.margin)) {
     throw std::invalid_argument("TopologyGuard: margin " + std::to_string(settings.margin) + ", expected >= 0");
   }
+  if (!(settings.crumb_join_level >= 0.0) || !std::isfinite(settings.crumb_join_level)) {
+    throw std::invalid_argument("TopologyGuard: crumb_join_level " + std::to_string(settings.crumb_join_level) +
+                                ", expected >= 0");
+  }
   if (!(settings.neck_level >= 0.0) || !std::isfinite(settings.neck_level)) {
     throw std::invalid_argument("TopologyGuard: neck_level " + std::to_string(settings.neck_level) + ", expected >= 0");
   }
@@ -346,20 +350,28 @@ TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3
       const double value = value_of_node_[static_cast<size_t>(node)];
       if (piece >= pieces) {  // cavity: its lowest node up to +margin
         changed |= changeValueAt(field, grid_.node(node), settings_.margin - value, weights, report);
-      } else if (piece_size_[static_cast<size_t>(piece)] < settings_.bridge_nodes) {  // crumb: top down to −margin
-        changed |= changeValueAt(field, grid_.node(node), -(value + settings_.margin), weights, report);
-        ++report.islands_removed;
-      } else {  // a piece of muscle: the outside nodes between it and the body up to +margin
+      } else {
+        // A piece of muscle is joined back (its gap up to +margin); a crumb is removed (its top
+        // down to −margin), unless it lies beside the body (a gap of at most kCrumbGapNodes nodes)
+        // and joining it (its gap up to crumb_join_level) changes f less at every node.
         findGapNodes(piece, body, gap_nodes_);
-        bool bridged = false;
-        for (const std::int64_t gap : gap_nodes_) {
-          const double now = valueWithChanges(field, weights, gap);  // an earlier raise may have lifted it
-          if (now <= 0.0) bridged |= changeValueAt(field, grid_.node(gap), settings_.margin - now, weights, report);
+        const bool crumb = piece_size_[static_cast<size_t>(piece)] < settings_.bridge_nodes;
+        const double join_level = crumb ? settings_.crumb_join_level : settings_.margin;
+        double deepest_gap = 0.0;
+        for (const std::int64_t gap : gap_nodes_) deepest_gap = std::min(deepest_gap, value_of_node_[static_cast<size_t>(gap)]);
+        const bool join = !crumb || (join_level > 0.0 && !gap_nodes_.empty() && gap_nodes_.size() <= kCrumbGapNodes &&
+                                     join_level - deepest_gap < value + settings_.margin);
+        bool joined = false;
+        if (join) {
+          for (const std::int64_t gap : gap_nodes_) {
+            const double now = valueWithChanges(field, weights, gap);  // an earlier raise may have lifted it
+            if (now <= 0.0) joined |= changeValueAt(field, grid_.node(gap), join_level - now, weights, report);
+          }
         }
-        if (bridged) {
+        if (joined) {
           changed = true;
           ++report.islands_bridged;
-        } else {  // no weight can raise the gap (all at their limits): remove the piece instead
+        } else {  // a crumb, or no weight can raise the gap (all at their limits): removed
           changed |= changeValueAt(field, grid_.node(node), -(value + settings_.margin), weights, report);
           ++report.islands_removed;
         }

@@ -38,8 +38,15 @@ struct TopologySettings {
   double margin = 0.25;
   /// Islands of at least this many nodes are pieces of muscle (at the 2 mm default,
   /// 8 nodes ≈ 64 mm³, e.g. an insertion pinched off the belly) and are joined back to
-  /// the body; smaller ones are crumbs and are removed. ≥ 1.
+  /// the body; smaller ones are crumbs and are removed (or joined: crumb_join_level). ≥ 1.
   std::int64_t bridge_nodes = 8;
+  /// A crumb beside the body (at most two outside nodes between them) across a shallow dip is
+  /// joined instead: its gap nodes are raised to this level (field unit, ≥ 0; 0 = crumbs are
+  /// always removed) when the largest of those changes of f is less than lowering its top to
+  /// −margin. Why: on a thin sheet near zero (the iliacus's top, 43°–52° of flexion) a node just
+  /// above zero beside the body is part of the sheet; lowering it by 0.45 sank the sheet by over
+  /// 1 mm, where raising the dip of −0.03 beside it takes 0.08.
+  double crumb_join_level = 0.05;
   /// Necks (field unit, mm for a signed-distance fit; ≥ 0, 0 = off): a piece of
   /// {f > neck_level} of at least bridge_nodes nodes, apart from the largest one while
   /// {f > 0} is one piece, hangs on a thinning neck; the neck's nodes below the level are
@@ -90,7 +97,8 @@ struct TopologyReport {
 /// bridge_nodes (a crumb) is lowered to −margin at its highest node; a larger island
 /// is a piece of muscle and is joined back: every node with f ≤ 0 on the segment
 /// between the closest (island, body) pair of nodes is raised to +margin, in path order
-/// (when no weight can raise them, the island is lowered as a crumb instead). The change is
+/// (when no weight can raise them, the island is lowered as a crumb instead). A crumb beside the
+/// body is joined the same way, to crumb_join_level, when that is the smaller change. The change is
 /// made through the weights of the free centres active at x* (the attached ones only
 /// when no free one is) by changeValueAt (local_value_change.h: the smallest change in
 /// Σ Δλₖ²/|λₖ| that makes f(x*) change by Δf, clamped, no weight changing sign). Rounds repeat until no defect is left or the
@@ -139,6 +147,8 @@ class TopologyGuard {
   bool raiseNecks(const GaussianField& field, const Eigen::AlignedBox3d& box_mm, Eigen::VectorXd& weights,
                   TopologyReport& report);
   static constexpr double kNeckRaise = 1.5;  ///< a neck's nodes are raised to this × neck_level
+  /// A crumb is beside the body when at most this many outside nodes lie between them.
+  static constexpr size_t kCrumbGapNodes = 2;
 
   static constexpr int kOutside = -2;     ///< node state: on a box face, or f ≤ 0
   static constexpr int kUnlabelled = -1;  ///< node state: inside, no piece yet

@@ -70,6 +70,41 @@ TEST(TopologyGuard, JoinsAPieceOfMuscleBackInsteadOfRemovingIt) {
   EXPECT_GT(field.calcValue(Eigen::Vector3d::Zero()), 0.0);             // joined in between
 }
 
+TEST(TopologyGuard, JoinsACrumbAcrossAShallowDipWhereRemovingItWouldSinkAFlatBody) {
+  // A flat body, f = λ e^{−0.001 r²} − 5 (f = 0 at r = 9 mm, 0.42 at its centre), and a narrow
+  // bump on the node (12, 0, 0): f there −0.305 + 0.5 = 0.195, a one-node crumb; the node
+  // (10, 0, 0) between it and the body has f = −0.094. Joining (+0.094 + 0.05 there) is the
+  // smaller change than removing (−0.195 − 0.25), which the flat body shares.
+  Eigen::Matrix3Xd xi(3, 2);
+  xi << 0.0, 12.0, 0.0, 0.0, 0.0, 0.0;
+  const GaussianField sheet(-5.0, xi, Eigen::Vector2d(5.0 * std::exp(0.081), 0.5), Eigen::Vector2d(0.001, 2.0));
+  const Eigen::Vector3d centre = Eigen::Vector3d::Zero(), crumb(12.0, 0.0, 0.0), dip(10.0, 0.0, 0.0);
+  ASSERT_NEAR(sheet.calcValue(crumb), 0.195, 1e-3);
+  ASSERT_NEAR(sheet.calcValue(dip), -0.094, 1e-3);
+  ASSERT_EQ(checkMesh(extract(sheet)).components, 2);
+
+  GaussianField joined = sheet;
+  const TopologyReport r = TopologyGuard({true, true}, kLimits, TopologySettings{}).run(joined, kBox);
+  EXPECT_EQ(r.islands_found, 1);
+  EXPECT_EQ(r.islands_bridged, 1);
+  EXPECT_EQ(r.islands_removed, 0);
+  EXPECT_EQ(r.stop_reason, TopologyStop::kOnePiece) << toString(r.stop_reason);
+  EXPECT_EQ(checkMesh(extract(joined)).components, 1);
+  EXPECT_GT(joined.calcValue(crumb), 0.0);  // kept
+  EXPECT_NEAR(joined.calcValue(dip), TopologySettings{}.crumb_join_level, 0.01);  // raised just above zero
+
+  TopologySettings never;
+  never.crumb_join_level = 0.0;
+  GaussianField removed = sheet;
+  const TopologyReport off = TopologyGuard({true, true}, kLimits, never).run(removed, kBox);
+  EXPECT_EQ(off.islands_bridged, 0);
+  EXPECT_EQ(off.islands_removed, 1);
+  EXPECT_LT(removed.calcValue(crumb), 0.0);
+  // Removing moves the body's f three times as far as joining does (−0.46 against +0.16).
+  const double body_before = sheet.calcValue(centre);
+  EXPECT_GT(std::abs(removed.calcValue(centre) - body_before), 2.0 * std::abs(joined.calcValue(centre) - body_before));
+}
+
 TEST(TopologyGuard, RaisesAThinningNeckBeforeItIsCut) {
   // Two spheres of radius ~10 mm, centres 2d apart: f(0) = 2λ e^{−0.01 d²} − 5 = 0.1 on the
   // node at the origin, the neck's thinnest point, so {f > 0} is one piece but {f > 0.2} two.
@@ -167,6 +202,9 @@ TEST(TopologyGuard, RejectsBadSettingsAndSizes) {
   EXPECT_THROW(TopologyGuard({true}, Eigen::VectorXd::Ones(1), s), std::invalid_argument);
   s = TopologySettings{};
   s.neck_level = -0.1;
+  EXPECT_THROW(TopologyGuard({true}, Eigen::VectorXd::Ones(1), s), std::invalid_argument);
+  s = TopologySettings{};
+  s.crumb_join_level = -0.05;
   EXPECT_THROW(TopologyGuard({true}, Eigen::VectorXd::Ones(1), s), std::invalid_argument);
   GaussianField field = makeBodyAnd(1.0, Eigen::Vector3d::Zero());
   TopologyGuard guard({true}, Eigen::VectorXd::Ones(1), TopologySettings{});
