@@ -109,7 +109,7 @@ void SurfaceStepLimiter::adoptLastSurface() {
     for (size_t v = 0; v < p.edges.size(); ++v) p.by_edge[v] = {p.edges[v], static_cast<int>(v)};
     std::sort(p.by_edge.begin(), p.by_edge.end());
   }
-  last_ = Surface{};
+  last_ = Surface();  // not {}: GaussianField's default constructor is explicit
 }
 
 double SurfaceStepLimiter::measure(const GaussianField& field, const Eigen::AlignedBox3d& box_mm,
