@@ -43,7 +43,7 @@ struct TopologySettings {
   /// A crumb beside the body (at most two outside nodes between them) across a shallow dip is
   /// joined instead: its gap nodes are raised to this level (field unit, ≥ 0; 0 = crumbs are
   /// always removed) when the largest of those changes of f is less than lowering its top to
-  /// −margin. Why: on a thin sheet near zero (the iliacus's top, 43°–52° of flexion) a node just
+  /// −margin. Why: on a thin sheet near zero (the iliacus's top, 43°–54° of flexion) a node just
   /// above zero beside the body is part of the sheet; lowering it by 0.45 sank the sheet by over
   /// 1 mm, where raising the dip of −0.03 beside it takes 0.08.
   double crumb_join_level = 0.05;

@@ -220,7 +220,7 @@ TEST(GluteusDynamics, NoSurfaceJumpAtTenDegreeStepsWithTheStepLimit) {
   runFlexion(gluteus(), gluteusAttachments(gluteus()), 10, 80, true, sceneSettings());
 }
 
-// The iliacus's thin top (35°–50°) leaves one-node crumbs beside the body. Before the guard joined
+// The iliacus's thin top (43°–54°) leaves one-node crumbs beside the body. Before the guard joined
 // such a crumb across a shallow dip (TopologySettings::crumb_join_level) it removed it, which sank
 // the flat sheet beside it; the limit's pull-back raised the sheet, the crumb came back, and at 43°
 // the surface moved 0.13 mm too far.
