@@ -354,12 +354,13 @@ TopologyReport TopologyGuard::run(GaussianField& field, const Eigen::AlignedBox3
         // A piece of muscle is joined back (its gap up to +margin); a crumb is removed (its top
         // down to −margin), unless it lies beside the body (a gap of at most kCrumbGapNodes nodes)
         // and joining it (its gap up to crumb_join_level) changes f less at every node.
-        findGapNodes(piece, body, gap_nodes_);
         const bool crumb = piece_size_[static_cast<size_t>(piece)] < settings_.bridge_nodes;
         const double join_level = crumb ? settings_.crumb_join_level : settings_.margin;
+        gap_nodes_.clear();  // a crumb's gap is looked for only when it may be joined
+        if (!crumb || join_level > 0.0) findGapNodes(piece, body, gap_nodes_);
         double deepest_gap = 0.0;
         for (const std::int64_t gap : gap_nodes_) deepest_gap = std::min(deepest_gap, value_of_node_[static_cast<size_t>(gap)]);
-        const bool join = !crumb || (join_level > 0.0 && !gap_nodes_.empty() && gap_nodes_.size() <= kCrumbGapNodes &&
+        const bool join = !crumb || (!gap_nodes_.empty() && gap_nodes_.size() <= kCrumbGapNodes &&
                                      join_level - deepest_gap < value + settings_.margin);
         bool joined = false;
         if (join) {
