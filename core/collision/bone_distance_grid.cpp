@@ -3,6 +3,7 @@
 /// BoneDistanceGrid: lazily filled bricks of exact signed distances, trilinear queries.
 #include "collision/bone_distance_grid.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
@@ -91,6 +92,10 @@ void BoneDistanceGrid::validate() const {
   if (settings_.brick_cells < 1 || settings_.brick_cells > 64) bad("brick_cells", settings_.brick_cells, "1..64");
 }
 
+double BoneDistanceGrid::calcNodeClamp() const {
+  return settings_.band_mm + std::sqrt(3.0) * settings_.spacing_mm;
+}
+
 Eigen::AlignedBox3d BoneDistanceGrid::getGridBox() const {
   const double brick_mm = settings_.spacing_mm * settings_.brick_cells;
   return Eigen::AlignedBox3d(origin_mm_, origin_mm_ + brick_mm * brick_counts_.cast<double>());
@@ -101,8 +106,52 @@ BoneDistanceGridStats BoneDistanceGrid::getStats() const {
   stats.brick_slots = (long long)brick_counts_.prod();
   stats.bricks_near = bricks_near_.load();
   stats.bricks_far = bricks_far_.load();
-  stats.node_evaluations = node_evaluations_.load();
+  stats.nodes_stored = stats.bricks_near * (long long)std::pow(settings_.brick_cells + 1, 3);
+  stats.distance_queries = distance_queries_.load();
   return stats;
+}
+
+void BoneDistanceGrid::fillNodes(const Eigen::Vector3i& b, std::vector<double>& nodes_mm) const {
+  const double h = settings_.spacing_mm;
+  const double clamp_mm = calcNodeClamp();
+  // A search radius a little above a bound of |s|, so rounding never hides the closest point.
+  const double slack_mm = 1e-9 * (1.0 + clamp_mm);
+  const int n = settings_.brick_cells + 1;
+  const Eigen::Vector3i first = b * settings_.brick_cells;
+  const MeshDistance& distance = *mesh_distance_;
+  long long queries = 0;
+  std::size_t k = 0;
+  for (int z = 0; z < n; ++z)
+    for (int y = 0; y < n; ++y)
+      for (int x = 0; x < n; ++x, ++k) {
+        // Node positions from global integer indices only: a node shared by two bricks
+        // gets the same position, hence the same value, whichever brick computes it.
+        const Eigen::Vector3d node(origin_mm_.x() + h * double(first.x() + x),
+                                   origin_mm_.y() + h * double(first.y() + y),
+                                   origin_mm_.z() + h * double(first.z() + z));
+        // The previous node in scan order is a neighbour at distance h (none for the first):
+        // |s(node)| ≤ |s(previous)| + h bounds the search, and a node beyond the clamp has
+        // the previous node's sign (s cannot change sign within h of it, as clamp > h).
+        const std::ptrdiff_t previous = x > 0 ? std::ptrdiff_t(k) - 1
+                                        : y > 0 ? std::ptrdiff_t(k) - n
+                                        : z > 0 ? std::ptrdiff_t(k) - n * n
+                                                : -1;
+        const double previous_mm = previous >= 0 ? nodes_mm[std::size_t(previous)] : 0.0;
+        const double bound_mm = previous >= 0 ? std::min(std::abs(previous_mm) + h, clamp_mm) : clamp_mm;
+        const SignedClosestPoint hit = distance.findSignedClosestPoint(node, bound_mm + slack_mm);
+        ++queries;
+        double value_mm;
+        if (hit.triangle >= 0) {
+          value_mm = hit.signed_distance_mm;
+        } else if (previous >= 0 && bound_mm >= clamp_mm) {
+          value_mm = std::copysign(clamp_mm, previous_mm);
+        } else {  // the first node beyond the clamp: its sign needs the whole search
+          value_mm = distance.findSignedClosestPoint(node).signed_distance_mm;
+          ++queries;
+        }
+        nodes_mm[k] = std::clamp(value_mm, -clamp_mm, clamp_mm);
+      }
+  distance_queries_.fetch_add(queries, std::memory_order_relaxed);
 }
 
 const BoneDistanceGrid::Brick* BoneDistanceGrid::buildBrick(const Eigen::Vector3i& b, long long slot) const {
@@ -115,6 +164,7 @@ const BoneDistanceGrid::Brick* BoneDistanceGrid::buildBrick(const Eigen::Vector3
   const double brick_mm = h * cells;
   const Eigen::Vector3d centre = origin_mm_ + brick_mm * (b.cast<double>().array() + 0.5).matrix();
   const double s_centre = mesh_distance_->findSignedClosestPoint(centre).signed_distance_mm;
+  distance_queries_.fetch_add(1, std::memory_order_relaxed);
   const double half_diagonal = 0.5 * std::sqrt(3.0) * brick_mm;
   const Brick* result = nullptr;
   if (std::abs(s_centre) - half_diagonal >= band) {
@@ -124,19 +174,7 @@ const BoneDistanceGrid::Brick* BoneDistanceGrid::buildBrick(const Eigen::Vector3
     const int n = cells + 1;
     auto brick = std::make_unique<Brick>();
     brick->nodes_mm.resize(std::size_t(n) * n * n);
-    // Node positions from global integer indices only: a node shared by two bricks gets
-    // the same position, hence the same value, whichever brick computes it.
-    const Eigen::Vector3i first = b * cells;
-    std::size_t k = 0;
-    for (int z = 0; z < n; ++z)
-      for (int y = 0; y < n; ++y)
-        for (int x = 0; x < n; ++x) {
-          const Eigen::Vector3d node(origin_mm_.x() + h * double(first.x() + x),
-                                     origin_mm_.y() + h * double(first.y() + y),
-                                     origin_mm_.z() + h * double(first.z() + z));
-          brick->nodes_mm[k++] = mesh_distance_->findSignedClosestPoint(node).signed_distance_mm;
-        }
-    node_evaluations_.fetch_add((long long)k, std::memory_order_relaxed);
+    fillNodes(b, brick->nodes_mm);
     bricks_near_.fetch_add(1, std::memory_order_relaxed);
     result = brick.release();
   }

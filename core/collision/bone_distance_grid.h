@@ -8,6 +8,7 @@
 #include <atomic>
 #include <memory>
 #include <mutex>
+#include <vector>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -38,7 +39,8 @@ struct BoneDistanceGridStats {
   long long brick_slots = 0;       ///< size of the brick index (one pointer each).
   long long bricks_near = 0;       ///< bricks whose nodes were evaluated and are stored.
   long long bricks_far = 0;        ///< bricks classified far from one centre query, no nodes.
-  long long node_evaluations = 0;  ///< exact signed-distance queries for nodes.
+  long long nodes_stored = 0;      ///< node values held: bricks_near · (brick_cells + 1)³.
+  long long distance_queries = 0;  ///< MeshDistance searches made (brick centres and nodes).
 };
 
 /// Signed distance s(x) (mm; negative inside, positive outside) to a closed, outward-wound
@@ -125,6 +127,10 @@ class BoneDistanceGrid {
   void validate() const;
   /// The brick at integer brick position `b` (slot `slot`), classified and filled if new.
   const Brick* buildBrick(const Eigen::Vector3i& b, long long slot) const;
+  /// The (brick_cells + 1)³ node values of brick `b`, x fastest, clamped to ±calcNodeClamp().
+  void fillNodes(const Eigen::Vector3i& b, std::vector<double>& nodes_mm) const;
+  /// band + √3 h (mm): a node with |s| beyond it makes every cell holding it far.
+  double calcNodeClamp() const;
 
   std::shared_ptr<const MeshDistance> mesh_distance_;
   BoneDistanceGridSettings settings_;
@@ -133,7 +139,7 @@ class BoneDistanceGrid {
   std::unique_ptr<std::atomic<const Brick*>[]> slots_;  ///< x fastest; null until built.
   std::unique_ptr<const Brick> far_outside_, far_inside_;  ///< shared by all far bricks.
   mutable std::array<std::mutex, kMutexStripes> build_mutexes_;
-  mutable std::atomic<long long> bricks_near_{0}, bricks_far_{0}, node_evaluations_{0};
+  mutable std::atomic<long long> bricks_near_{0}, bricks_far_{0}, distance_queries_{0};
 };
 
 }  // namespace rbfmuscle

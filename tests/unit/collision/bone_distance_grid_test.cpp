@@ -176,7 +176,8 @@ TEST(BoneDistanceGrid, FarPointsReportALowerBoundAndNoBrickIsBuilt) {
   const BoneDistanceGridStats stats = grid.getStats();
   EXPECT_EQ(stats.bricks_near, 0);
   EXPECT_EQ(stats.bricks_far, 0);
-  EXPECT_EQ(stats.node_evaluations, 0);
+  EXPECT_EQ(stats.nodes_stored, 0);
+  EXPECT_EQ(stats.distance_queries, 0);
 }
 
 TEST(BoneDistanceGrid, DeepInsidePointsReportAnUpperBoundWithoutNodeEvaluations) {
@@ -193,7 +194,8 @@ TEST(BoneDistanceGrid, DeepInsidePointsReportAnUpperBoundWithoutNodeEvaluations)
   }
   EXPECT_GT(grid.getStats().bricks_far, 0);
   EXPECT_EQ(grid.getStats().bricks_near, 0);
-  EXPECT_EQ(grid.getStats().node_evaluations, 0);
+  EXPECT_EQ(grid.getStats().nodes_stored, 0);
+  EXPECT_EQ(grid.getStats().distance_queries, grid.getStats().bricks_far);  // one per brick centre
 }
 
 TEST(BoneDistanceGrid, BricksAreBuiltOnlyWhereQueriedAndOnlyOnce) {
@@ -203,13 +205,16 @@ TEST(BoneDistanceGrid, BricksAreBuiltOnlyWhereQueriedAndOnlyOnce) {
   const Eigen::Vector3d p(20.0, 0.3, 0.2);
   const BoneDistanceSample first = grid.sample(p);
   EXPECT_EQ(grid.getStats().bricks_near, 1);
-  EXPECT_EQ(grid.getStats().node_evaluations, nodes_per_brick);
+  EXPECT_EQ(grid.getStats().nodes_stored, nodes_per_brick);
+  const long long queries = grid.getStats().distance_queries;
+  EXPECT_GT(queries, 0);
   EXPECT_TRUE(sameBits(grid.sample(p), first));
   grid.sample(p + Eigen::Vector3d(0.1, 0.1, 0.1));  // same brick
   EXPECT_EQ(grid.getStats().bricks_near, 1);
+  EXPECT_EQ(grid.getStats().distance_queries, queries);
   grid.sample(Eigen::Vector3d(-20.0, 0.3, 0.2));  // another brick
   EXPECT_EQ(grid.getStats().bricks_near, 2);
-  EXPECT_EQ(grid.getStats().node_evaluations, 2 * nodes_per_brick);
+  EXPECT_EQ(grid.getStats().nodes_stored, 2 * nodes_per_brick);
   EXPECT_EQ(grid.getStats().bricks_far, 0);
   EXPECT_EQ(grid.getStats().brick_slots, 7 * 7 * 7);  // (40 + 2·6) / 8 → 7 bricks per axis
 }
