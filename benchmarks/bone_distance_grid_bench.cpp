@@ -17,6 +17,7 @@
 ///                                  bricks, per near brick), ms_per_near_brick
 ///   BM_FillWholeGrid/shape/cells   every brick of the grid box built: bricks_near,
 ///                                  bricks_far, slots, node_MiB, fill_ms
+///   BM_BuildAllBricks/shape        buildAllBricks() on a fresh grid (OpenMP threads; wall time)
 ///   BM_SampleWarm/shape            sample() on 1000 near points, bricks already built
 ///   BM_ExactQuery/shape            MeshDistance::findSignedClosestPoint on the same points
 #include "collision/bone_distance_grid.h"
@@ -125,6 +126,19 @@ BENCHMARK(BM_FillWholeGrid)
     ->ArgNames({"shape", "cells"})
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
+
+void BM_BuildAllBricks(benchmark::State& state) {
+  const int shape = int(state.range(0));
+  BoneDistanceGridStats stats;
+  for (auto _ : state) {
+    const BoneDistanceGrid grid(shapeDistance(shape));
+    grid.buildAllBricks();
+    stats = grid.getStats();
+  }
+  state.counters["bricks_near"] = double(stats.bricks_near);
+  state.counters["node_MiB"] = double(stats.nodes_stored) * sizeof(double) / (1024.0 * 1024.0);
+}
+BENCHMARK(BM_BuildAllBricks)->Arg(0)->Arg(2)->ArgName("shape")->Iterations(1)->UseRealTime()->Unit(benchmark::kMillisecond);
 
 void BM_SampleWarm(benchmark::State& state) {
   const int shape = int(state.range(0));

@@ -182,6 +182,17 @@ const BoneDistanceGrid::Brick* BoneDistanceGrid::buildBrick(const Eigen::Vector3
   return result;
 }
 
+void BoneDistanceGrid::buildAllBricks() const {
+  const int nx = brick_counts_.x(), ny = brick_counts_.y();
+  const long long n = (long long)brick_counts_.prod();
+#pragma omp parallel for schedule(dynamic, 4)
+  for (long long slot = 0; slot < n; ++slot) {
+    if (slots_[std::size_t(slot)].load(std::memory_order_acquire) != nullptr) continue;
+    const Eigen::Vector3i b(int(slot % nx), int(slot / nx % ny), int(slot / nx / ny));
+    buildBrick(b, slot);
+  }
+}
+
 BoneDistanceSample BoneDistanceGrid::sample(const Eigen::Vector3d& p_B) const {
   if (!p_B.allFinite()) throw CollisionError("BoneDistanceGrid::sample: query point p_B is not finite");
   const double h = settings_.spacing_mm, band = settings_.band_mm;

@@ -110,6 +110,11 @@ class BoneDistanceGrid {
   /// @throws CollisionError if p_B is not finite.
   BoneDistanceSample sample(const Eigen::Vector3d& p_B) const;
 
+  /// Classifies and fills every brick of the grid box not built yet (in parallel with
+  /// OpenMP; safe alongside sample calls), to pay the whole cost at once instead of at the
+  /// first query near each part of the surface. The answers are the same either way.
+  void buildAllBricks() const;
+
   /// The settings in use.
   const BoneDistanceGridSettings& getSettings() const { return settings_; }
   /// The box covered by the brick index (frame B, mm): the mesh box padded by the band,

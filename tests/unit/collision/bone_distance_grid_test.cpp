@@ -300,6 +300,21 @@ TEST(BoneDistanceGrid, SameValuesForAnyThreadCountAndOrder) {
 #endif
 }
 
+TEST(BoneDistanceGrid, BuildingAllBricksFirstGivesTheSameAnswers) {
+  const TriangleMesh sphere = test::makeIcosphere(20.0, 3);
+  const BoneDistanceGrid lazy(sphere), eager(sphere);
+  eager.buildAllBricks();
+  const BoneDistanceGridStats stats = eager.getStats();
+  EXPECT_EQ(stats.bricks_near + stats.bricks_far, stats.brick_slots);
+  EXPECT_GT(stats.bricks_far, 0);
+  Eigen::Matrix3Xd points(3, 2000);
+  points << test::sampleNearSurface(sphere, 1000, 8.0, 13),
+      randomPointsIn(Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-40), Eigen::Vector3d::Constant(40)), 1000, 14);
+  for (Eigen::Index i = 0; i < points.cols(); ++i)
+    ASSERT_TRUE(sameBits(eager.sample(points.col(i)), lazy.sample(points.col(i)))) << "point " << i;
+  EXPECT_EQ(eager.getStats().bricks_near, stats.bricks_near) << "nothing left to build";
+}
+
 TEST(BoneDistanceGrid, BadInputGivesAnExceptionNamingTheProblem) {
   const TriangleMesh sphere = test::makeIcosphere(10.0, 1);
   expectCollisionError([] { BoneDistanceGrid grid{TriangleMesh{}}; }, "no triangles");
