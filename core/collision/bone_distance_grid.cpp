@@ -1,6 +1,16 @@
 // SPDX-License-Identifier: Apache-2.0
 /// @file
 /// BoneDistanceGrid: lazily filled bricks of exact signed distances, trilinear queries.
+///
+/// Why not OpenVDB (Debian libopenvdb-dev 10.0.1), measured on the femur (femur_r.ply,
+/// h = 1 mm, narrow band of 7.74 voxels, the same 20 000 points near the surface, Release,
+/// 2 cores): tools::meshToLevelSet fills the whole band in 0.97 s (TBB; this class 1.7 s
+/// with buildAllBricks on two threads), 7.1 MiB of float voxels (this class 17 MiB of
+/// doubles); a trilinear BoxSampler query takes 96 ns (here 41 ns); its error against
+/// MeshDistance is mean 0.010, p99 0.065, max 0.90 mm (here 0.009, 0.056, 0.31 mm). It
+/// fills faster, but all at once, in float, with signs from a flood fill instead of the
+/// pseudo-normals, answers more slowly, and would bring four libraries (OpenVDB, TBB, Blosc,
+/// Imath): not worth adding.
 #include "collision/bone_distance_grid.h"
 
 #include <algorithm>

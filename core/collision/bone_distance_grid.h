@@ -53,7 +53,8 @@ struct BoneDistanceGridStats {
 /// query at its centre c: if |s(c)| − r ≥ band, with r its half-diagonal, then |s| ≥ band
 /// in the whole brick (s is 1-Lipschitz) and the brick is "far" (outside or inside by the
 /// sign of s(c)), storing nothing. Otherwise all its (brick_cells + 1)³ nodes get the exact
-/// MeshDistance::findSignedClosestPoint value (sign from the angle-weighted pseudo-normals).
+/// MeshDistance::findSignedClosestPoint value (sign from the angle-weighted pseudo-normals),
+/// clamped as told below.
 /// Nodes on a face shared by two bricks are stored in both, with equal values; the memory
 /// is one pointer per brick slot plus the near bricks' nodes, i.e. it grows with the surface
 /// area near which queries fall, not with the box's volume.
@@ -61,6 +62,7 @@ struct BoneDistanceGridStats {
 /// What sample(p_B) returns, with t the interpolant of the 8 nodes of p's cell:
 ///  - p in a near brick, |t| < band: value t, gradient ∇t, near = true;
 ///  - p in a near brick, |t| ≥ band: value ±band (sign of t), gradient 0, near = false;
+///    then |s(p)| ≥ band up to the interpolation error;
 ///  - p in a far brick: value +band (outside) or −band (inside), gradient 0, near = false;
 ///    then s(p) ≥ band, resp. s(p) ≤ −band;
 ///  - p outside the grid box: value band + (distance from p to the grid box), gradient 0,
@@ -69,26 +71,48 @@ struct BoneDistanceGridStats {
 /// So value = clamp(t, −band, band) in the grid box, which is continuous everywhere
 /// (the nodes of a far brick's faces all have |s| ≥ band with one sign), and a caller may
 /// skip the bone whenever near is false. The gradient of a trilinear interpolant is
-/// continuous inside a cell and jumps across cell faces by O(h · curvature); no smoother
-/// scheme is used because the interpolant is exact for planes and the zero set of the
-/// value (where the caller's min(f, s) cares) is within the errors below.
+/// continuous inside a cell and jumps across cell faces, by O(h · curvature) where s is
+/// smooth and by O(1) where s has a kink. No smoother scheme (e.g. tricubic) is used: it
+/// would need 64 nodes a query instead of 8 and overshoots at kinks, while trilinear is
+/// exact for planes and keeps the zero set (where the caller's min(f, s) cares) within the
+/// errors below.
 ///
-/// Accuracy (h = 1 mm, band 6 mm, brick 8 cells; |value − s| against MeshDistance at random
-/// points within ±3 mm of the surface; benchmarks/bone_distance_grid_bench.cpp):
-///  - icosphere r = 20 mm:  mean 0.0xx, p99 0.0xx, max 0.0xx mm;
-///  - cube 40 mm (sharp edges): mean 0.0xx, p99 0.xx, max 0.xx mm;
-///  - femur_r.ply: mean 0.0xx, p99 0.xx, max 0.xx mm.
-/// The error of trilinear interpolation is ≤ h²/8 · Σ|∂²s/∂xᵢ²| in smooth regions (exact for
-/// a plane) and O(h) at kinks of s (the medial surface, e.g. inside near a sharp edge).
+/// Node values are s clamped to ±(band + √3 h): a node beyond that makes every point of
+/// every cell holding it have |s| > band with one sign, so those cells answer ±band either
+/// way, and such nodes need only a short search (each node's search is bounded by its
+/// scan-order neighbour's |s| + h, a bound that changes no result of the search). The
+/// answers are bitwise those of unclamped nodes, only cheaper to fill.
 ///
-/// Cost: a near brick of 9³ nodes takes about ... ms to fill (one exact query per node);
-/// a warm query about ... ns.
+/// Accuracy, |value − s| against MeshDistance at 100 000 points uniform on the surface and
+/// moved along the normal by U(−3, 3) mm (band 6 mm, brick 8 cells;
+/// benchmarks/bone_distance_grid_bench.cpp, BM_Accuracy), in mm:
+///
+///     mesh                          h     mean     p99     max   max where |s| ≤ 0.5
+///     icosphere r 20 (5120 tri)     1    0.008   0.022   0.029   0.029
+///     cube 40, tilted (12 tri)      1    0.008   0.20    0.41    0.35
+///     femur_r.ply (42 456 tri)      1    0.009   0.054   0.39    0.39
+///     icosphere / cube / femur     0.5   0.002 / 0.002 / 0.003  max 0.015 / 0.21 / 0.18
+///     icosphere / cube / femur      2    0.033 / 0.034 / 0.029  max 0.069 / 0.82 / 0.83
+///
+/// Where s is smooth the error is about h²/8 · Σᵢ|∂²s/∂xᵢ²| (zero for a plane; ~0.01–0.03 mm
+/// for a sphere of 20 mm at h = 1). Where s has a kink (the medial surface: inside the bone
+/// near a sharp edge or corner, and reaching the surface at the edge itself) it is O(h):
+/// 3h/8 for min(x, y, z) at a cube corner, and never more than √3 h/2 for any 1-Lipschitz s.
+/// Signs are right wherever |s| exceeds the error.
+///
+/// Cost (Release, one core of the 2-core machine): filling a near brick of 9³ nodes takes
+/// about 730 MeshDistance searches, 1.3–1.4 ms on the femur and the sphere (0.2 ms on the
+/// 12-triangle cube); a far brick one search. The femur's whole grid box (band 6 mm): 10 556
+/// slots, 3132 near and 7424 far bricks, 17 MiB of nodes, 3.4 s on one thread, 1.7 s on two
+/// (buildAllBricks). A warm sample takes 35–41 ns, against 0.3–2.1 µs for an exact query.
 ///
 /// Thread safety: sample is const and may be called from any number of threads at once.
-/// A brick is built once, under one of a few striped mutexes, and published through an
-/// atomic pointer (double-checked); its node values are a pure function of the node's
-/// integer position, so every answer is bitwise the same for any thread count and order of
-/// queries.
+/// A brick is built once, under one of a few striped mutexes (so bricks build in parallel),
+/// and published through an atomic pointer (double-checked). Its content depends only on
+/// which brick it is, not on the thread that builds it or on when, and each node's value
+/// only on the node's integer position (nodes shared by two bricks agree), so every answer
+/// is bitwise the same for any thread count and order of queries, lazy or after
+/// buildAllBricks.
 class BoneDistanceGrid {
  public:
   /// A grid over the mesh of `mesh_distance` (frame B, mm), which must have been built with

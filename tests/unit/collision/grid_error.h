@@ -40,6 +40,7 @@ inline Eigen::Matrix3Xd sampleNearSurface(const TriangleMesh& mesh, int n, doubl
 /// |value − s| (mm) of a grid against the exact s at some points, and the sign failures.
 struct GridError {
   double mean_mm = 0, p99_mm = 0, max_mm = 0;
+  double max_at_surface_mm = 0;  ///< largest error where |s| ≤ 0.5 mm (near the zero set).
   int not_near = 0;        ///< points answered as far.
   int wrong_sign = 0;      ///< points with |s| > the sign margin where value and s have opposite signs.
 };
@@ -56,6 +57,7 @@ inline GridError measureGridError(const BoneDistanceGrid& grid, const Eigen::Mat
     if (!sample.near) ++out.not_near;
     if (std::abs(exact) > sign_margin_mm && sample.value_mm * exact <= 0) ++out.wrong_sign;
     errors.push_back(std::abs(sample.value_mm - exact));
+    if (std::abs(exact) <= 0.5) out.max_at_surface_mm = std::max(out.max_at_surface_mm, errors.back());
   }
   if (errors.empty()) return out;
   for (double e : errors) out.mean_mm += e / double(errors.size());
