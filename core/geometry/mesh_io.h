@@ -28,8 +28,8 @@ struct LoadedMesh {
 /// every other format (STL, OBJ, ...) through assimp. Then it welds vertices with exactly equal
 /// coordinates so unindexed formats (STL) become indexed, drops unreferenced vertices, and
 /// repairs what repairMesh can repair safely (collapsed, back-to-back and duplicate triangles,
-/// pinched edges and vertices, slivers left hanging at a pinch). A file with none of those
-/// defects is returned exactly as stored. Coordinates are taken as millimetres as stored.
+/// pinched edges and vertices, slivers left hanging at a pinch). An indexed file with none of
+/// those defects and no unused vertices is returned exactly as stored. Coordinates are taken as millimetres as stored.
 /// Open or otherwise unusable meshes are returned as they are: use loadSolidMesh for a mesh
 /// that must bound a solid.
 /// @throws MeshError naming `path` when the file is missing or unreadable, assimp fails
@@ -42,7 +42,9 @@ LoadedMesh readMesh(const std::string& path);
 TriangleMesh loadMesh(const std::string& path, const MeshWarningFn& warn = printMeshWarning);
 
 /// Writes `mesh` as binary little-endian PLY (`property double x/y/z` in mm,
-/// `property list uchar int vertex_indices`), so writePly → loadMesh is exact. Written to a temporary file beside `path`
+/// `property list uchar int vertex_indices`), so writePly → loadMesh is exact for a mesh without
+/// the defects loadMesh repairs (a mesh whose pinches were split holds coincident vertices, which
+/// loading welds and splits again). Written to a temporary file beside `path`
 /// and renamed over it, so `path` is never left half-written.
 /// @throws MeshError naming `path` when the file cannot be written.
 void writePly(const std::string& path, const TriangleMesh& mesh);
