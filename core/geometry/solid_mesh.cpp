@@ -5,14 +5,19 @@
 
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
+#include "geometry/mesh_repair.h"
 
 namespace rbfmuscle {
 
 TriangleMesh loadSolidMesh(const std::string& path, const SolidMeshOptions& options) {
   LoadedMesh loaded = readMesh(path);
-  const std::string warning = loaded.describeDefects(path);
+  std::string warning = loaded.describeDefects(path);
+  if (options.fix_winding && orientConsistently(loaded.mesh) > 0 && loaded.repair.leftDefects()) {
+    // Pinches are split only on a consistently wound mesh: try again once it is.
+    loaded.repair = repairMesh(loaded.mesh);
+    warning += "; after rewinding: " + loaded.repair.describe();
+  }
   if (!warning.empty() && options.warn) options.warn(warning);
-  if (options.fix_winding) orientConsistently(loaded.mesh);
   try {
     validateMesh(loaded.mesh, path);
   } catch (const MeshError& error) {

@@ -19,7 +19,8 @@ struct SolidMeshOptions {
 };
 
 /// loadMesh (which repairs what it can safely and warns), then validateMesh: returns a closed,
-/// manifold, outward-wound mesh (mm, as stored) or stops.
+/// manifold, outward-wound mesh (mm, as stored) or stops. With `fix_winding` the mesh is
+/// rewound before the check, and repaired again when rewinding lets a pinch be split.
 /// @throws MeshError "<path>: <problem>; <problem>..." naming each defect left and its count,
 ///         e.g. "bone.ply: 12 boundary edges — the mesh is not watertight (open boundary)",
 ///         followed by what the loader could not repair, if anything; or as loadMesh.

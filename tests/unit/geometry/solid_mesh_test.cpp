@@ -105,6 +105,19 @@ TEST(SolidMesh, PinchedEdgeOnAnInconsistentlyWoundMeshIsRejectedNamingBoth) {
                     {path + ": ", "1 non-manifold edges", "inconsistently wound edges", "could not split"});
 }
 
+TEST(SolidMesh, PinchedEdgeOnAnInconsistentlyWoundMeshIsRepairedWhenTheWindingMayBeFixed) {
+  TriangleMesh mesh = test::makeCellUnion({{0, 0, 0}, {1, 1, 0}}, 10.0);
+  std::swap(mesh.triangles(1, 0), mesh.triangles(2, 0));
+  const std::string path = writeMesh("pinch_flipped_fixed", mesh);
+  std::vector<std::string> warnings;
+  const TriangleMesh m =
+      loadSolidMesh(path, SolidMeshOptions{true, [&](const std::string& w) { warnings.push_back(w); }});
+  ASSERT_EQ(warnings.size(), 1u);
+  expectContainsAll(warnings[0], {path + ": ", "after rewinding: 1 non-manifold edge repaired"});
+  EXPECT_TRUE(checkMesh(m).listProblems().empty()) << checkMesh(m).describe();
+  EXPECT_NEAR(calcVolume(m), 2000.0, 1e-9);
+}
+
 TEST(SolidMesh, InwardWoundMeshIsRejectedUnlessTheWindingMayBeFixed) {
   TriangleMesh inward = makeCube(10.0);
   inward.triangles.row(1).swap(inward.triangles.row(2));
