@@ -18,6 +18,7 @@
 #include "geometry/mesh_distance.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_region.h"
+#include "geometry/solid_mesh.h"
 #include "model/skeleton.h"
 
 namespace rbfmuscle {
@@ -41,7 +42,9 @@ std::vector<Eigen::Vector3d> parseLandmarks(const std::string& text, const std::
 }
 
 /// A body's collision meshes (visual ones if it has none) in a frame F given by X_FB (mm);
-/// empty when the body has no mesh. Each part is moved by X_FB·X_BM in one product.
+/// empty when the body has no mesh. Each part is loaded as a solid (repaired where safe,
+/// with a warning; MeshError naming the file when it does not bound one) and moved by
+/// X_FB·X_BM in one product.
 TriangleMesh loadBoneMesh(const Skeleton& skeleton, int body, const Eigen::Isometry3d& X_FB) {
   const std::vector<BodyMesh>& meshes = skeleton.getBodyMeshes(body);
   bool any_collision = false;
@@ -49,7 +52,7 @@ TriangleMesh loadBoneMesh(const Skeleton& skeleton, int body, const Eigen::Isome
   TriangleMesh all;
   for (const BodyMesh& m : meshes) {
     if (m.collision != any_collision) continue;
-    TriangleMesh part = loadMesh(m.path);
+    TriangleMesh part = loadSolidMesh(m.path);
     const Eigen::Matrix3Xd v = (X_FB * m.X_BM) * (m.scale_to_mm.asDiagonal() * part.vertices_mm);
     const Eigen::Index base = all.vertices_mm.cols();
     all.vertices_mm.conservativeResize(3, base + v.cols());

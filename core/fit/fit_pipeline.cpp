@@ -4,9 +4,9 @@
 #include <cmath>
 
 #include "fit/sample_set.h"
-#include "geometry/mesh_check.h"
 #include "geometry/mesh_distance.h"
 #include "geometry/mesh_io.h"
+#include "geometry/solid_mesh.h"
 
 namespace rbfmuscle {
 namespace {
@@ -25,9 +25,7 @@ struct PreparedMesh {
 
 PreparedMesh prepareMesh(const std::string& mesh_path, bool fix_winding) {
   PreparedMesh prepared;
-  prepared.mesh_M = loadMesh(mesh_path);
-  if (fix_winding) orientConsistently(prepared.mesh_M);
-  validateMesh(prepared.mesh_M, mesh_path);
+  prepared.mesh_M = loadSolidMesh(mesh_path, SolidMeshOptions{fix_winding});
   const Eigen::AlignedBox3d box(prepared.mesh_M.vertices_mm.rowwise().minCoeff(),
                                 prepared.mesh_M.vertices_mm.rowwise().maxCoeff());
   prepared.offset_mm = box.center();

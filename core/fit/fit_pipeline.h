@@ -21,8 +21,9 @@ struct MeshFit {
   double seconds = 0.0;  ///< wall time of sampling + fit (metrics excluded)
 };
 
-/// Loads and validates the mesh (watertight, consistently wound — or rewound
-/// when `fix_winding`), moves it to the muscle frame M (origin at the centre
+/// Loads the mesh with loadSolidMesh (defects repaired where safe, with a warning on
+/// stderr; then validated: watertight, consistently wound — or rewound when
+/// `fix_winding`), moves it to the muscle frame M (origin at the centre
 /// of its bounding box), samples, fits and measures.
 /// @throws MeshError for a bad mesh, std::invalid_argument for bad settings.
 MeshFit fitMeshFile(const std::string& mesh_path, const FitSettings& settings, bool fix_winding,

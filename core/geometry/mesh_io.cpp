@@ -5,6 +5,7 @@
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 
+#include <algorithm>
 #include <array>
 #include <assimp/Importer.hpp>
 #include <cctype>
@@ -54,10 +55,12 @@ void collectTriangles(const aiScene& scene, const aiNode& node, const aiMatrix4x
 
 /// Welds referenced vertices with bit-identical coordinates, keeping the order of first
 /// appearance in the vertex list (an indexed file without duplicates keeps its numbering).
-TriangleMesh weld(const RawMesh& raw) {
+/// `unused` receives the number of vertices no triangle references (dropped).
+TriangleMesh weld(const RawMesh& raw, int& unused) {
   std::vector<char> referenced(raw.vertices.size(), 0);
   for (const auto& t : raw.triangles)
     for (int v : t) referenced[static_cast<std::size_t>(v)] = 1;
+  unused = static_cast<int>(std::count(referenced.begin(), referenced.end(), 0));
   std::map<Point, int> index_of;
   std::vector<int> new_index(raw.vertices.size(), -1);
   std::vector<Point> unique;
@@ -138,7 +141,17 @@ bool hasPlyExtension(const std::string& path) {
 
 }  // namespace
 
-TriangleMesh loadMesh(const std::string& path) {
+std::string LoadedMesh::describeDefects(const std::string& path) const {
+  std::string text;
+  if (unused_vertices > 0)
+    text = std::to_string(unused_vertices) + (unused_vertices == 1 ? " unused vertex" : " unused vertices") +
+           " dropped";
+  const std::string repaired = repair.describe();
+  if (!repaired.empty()) text += (text.empty() ? "" : "; ") + repaired;
+  return text.empty() ? text : path + ": " + text;
+}
+
+LoadedMesh readMesh(const std::string& path) {
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw MeshError(path + ": cannot open mesh file (missing or unreadable)");
@@ -155,7 +168,17 @@ TriangleMesh loadMesh(const std::string& path) {
         throw MeshError(msg.str());
       }
     }
-  return weld(raw);
+  LoadedMesh loaded;
+  loaded.mesh = weld(raw, loaded.unused_vertices);
+  loaded.repair = repairMesh(loaded.mesh);
+  return loaded;
+}
+
+TriangleMesh loadMesh(const std::string& path, const MeshWarningFn& warn) {
+  LoadedMesh loaded = readMesh(path);
+  const std::string warning = loaded.describeDefects(path);
+  if (!warning.empty() && warn) warn(warning);
+  return std::move(loaded.mesh);
 }
 
 void writePly(const std::string& path, const TriangleMesh& mesh) {

@@ -5,22 +5,46 @@
 #include <string>
 
 #include "geometry/mesh_error.h"
+#include "geometry/mesh_repair.h"
+#include "geometry/mesh_warning.h"
 #include "geometry/triangle_mesh.h"
 
 namespace rbfmuscle {
 
+/// A mesh file as loadMesh returns it, with what was dropped and repaired on the way.
+struct LoadedMesh {
+  TriangleMesh mesh;         ///< welded and repaired (mm, as stored).
+  int unused_vertices = 0;   ///< vertices of the file that no triangle uses, dropped.
+  MeshRepairReport repair;   ///< what repairMesh found and did after welding.
+
+  /// The warning for `path`: "<path>: 2 unused vertices dropped; 1 non-manifold edge
+  /// repaired: ..."; empty when there was nothing to drop or repair.
+  std::string describeDefects(const std::string& path) const;
+};
+
 /// Reads every triangle of every mesh in the file (node transforms applied, polygons
 /// triangulated, points and lines ignored). PLY (ASCII or binary, by the `.ply` extension)
 /// is read by the library's own reader, because assimp 5.2 misreads some binary PLY files;
-/// every other format (STL, OBJ, ...) through assimp. Then it then welds vertices with exactly equal
-/// coordinates so unindexed formats (STL) become indexed; unreferenced vertices are dropped.
-/// Coordinates are taken as millimetres as stored.
+/// every other format (STL, OBJ, ...) through assimp. Then it welds vertices with exactly equal
+/// coordinates so unindexed formats (STL) become indexed, drops unreferenced vertices, and
+/// repairs what repairMesh can repair safely (collapsed, back-to-back and duplicate triangles,
+/// pinched edges and vertices, slivers left hanging at a pinch). An indexed file with none of
+/// those defects and no unused vertices is returned exactly as stored. Coordinates are taken as millimetres as stored.
+/// Open or otherwise unusable meshes are returned as they are: use loadSolidMesh for a mesh
+/// that must bound a solid.
 /// @throws MeshError naming `path` when the file is missing or unreadable, assimp fails
 ///         (assimp's message included), there are no triangles, or a coordinate is not finite.
-TriangleMesh loadMesh(const std::string& path);
+LoadedMesh readMesh(const std::string& path);
+
+/// readMesh, passing the warning (LoadedMesh::describeDefects) to `warn` when the file had
+/// unused vertices or defects the loader repaired.
+/// @throws MeshError as readMesh.
+TriangleMesh loadMesh(const std::string& path, const MeshWarningFn& warn = printMeshWarning);
 
 /// Writes `mesh` as binary little-endian PLY (`property double x/y/z` in mm,
-/// `property list uchar int vertex_indices`), so writePly → loadMesh is exact. Written to a temporary file beside `path`
+/// `property list uchar int vertex_indices`), so writePly → loadMesh is exact for a mesh without
+/// the defects loadMesh repairs (a mesh whose pinches were split holds coincident vertices, which
+/// loading welds and splits again). Written to a temporary file beside `path`
 /// and renamed over it, so `path` is never left half-written.
 /// @throws MeshError naming `path` when the file cannot be written.
 void writePly(const std::string& path, const TriangleMesh& mesh);

@@ -5,7 +5,11 @@
 #include <cmath>
 #include <iterator>
 #include <limits>
+#include <vector>
 
+#include "geometry/mesh_check.h"
+#include "geometry/mesh_measures.h"
+#include "geometry/ply_reader.h"
 #include "support/eigen_compare.h"
 #include "unit/geometry/test_meshes.h"
 
@@ -48,6 +52,83 @@ TEST(MeshIo, LoadsShippedPlyWithFileCounts) {
     EXPECT_GE(m.triangles.minCoeff(), 0) << e.file;
     EXPECT_LT(m.triangles.maxCoeff(), m.countVertices()) << e.file;
   }
+}
+
+TEST(MeshIo, MeshesWithoutDefectsLoadExactlyAsStoredAndWithoutWarning) {
+  for (const char* file : {"shapes/box.ply", "shapes/rod.ply", "shapes/block.ply", "shapes/tetrahedron.ply",
+                           "hip/meshes/femur_r.ply", "hip/meshes/gluteus_maximus_r.ply", "hip/meshes/iliacus_r.ply",
+                           "hip/meshes/pelvis_r_proxy.ply"}) {
+    std::vector<std::string> warnings;
+    const TriangleMesh m = loadMesh(modelPath(file), [&](const std::string& w) { warnings.push_back(w); });
+    EXPECT_TRUE(warnings.empty()) << file << ": " << warnings.front();
+    const detail::PlyContent stored = detail::readPly(modelPath(file));
+    ASSERT_EQ(m.countVertices(), int(stored.vertices.size())) << file;
+    ASSERT_EQ(m.countTriangles(), int(stored.faces.size())) << file;
+    bool same = true;
+    for (int v = 0; v < m.countVertices(); ++v)
+      for (int k = 0; k < 3; ++k) same = same && m.vertices_mm(k, v) == stored.vertices[std::size_t(v)][std::size_t(k)];
+    for (int t = 0; t < m.countTriangles(); ++t)
+      for (int c = 0; c < 3; ++c) same = same && m.triangles(c, t) == stored.faces[std::size_t(t)][std::size_t(c)];
+    EXPECT_TRUE(same) << file << " differs from the file's own vertices and faces";
+  }
+}
+
+TEST(MeshIo, SubjectPelvisAndPsoasLoadRepairedWithAWarningNamingFileAndCounts) {
+  struct Expected {
+    const char* file;
+    double volume_ml;  // the data's README, rounded to 0.1 ml
+    std::vector<std::string> counts;
+  };
+  for (const Expected& e :
+       {Expected{"hip/meshes/pelvis_iliac_r.ply", 346.5, {"2 unused vertices dropped", "1 non-manifold edge repaired"}},
+        Expected{"hip/meshes/pelvis_sacrum.ply", 245.7, {"11 unused vertices dropped", "2 non-manifold edges repaired"}},
+        Expected{"hip/meshes/pelvis_iliac_l.ply", 364.0, {"1 unused vertex dropped"}},
+        Expected{"hip/meshes/psoas_major_r.ply", 103.5,
+                 {"25 unused vertices dropped", "3 non-manifold edges and 1 pinched vertex repaired"}}}) {
+    const std::string path = modelPath(e.file);
+    std::vector<std::string> warnings;
+    const TriangleMesh m = loadMesh(path, [&](const std::string& w) { warnings.push_back(w); });
+    ASSERT_EQ(warnings.size(), 1u) << e.file;
+    EXPECT_EQ(warnings[0].rfind(path + ": ", 0), 0u) << warnings[0];
+    for (const std::string& part : e.counts) EXPECT_NE(warnings[0].find(part), std::string::npos) << warnings[0];
+    const MeshReport report = checkMesh(m);
+    EXPECT_TRUE(report.listProblems().empty()) << e.file << ": " << report.describe();
+    EXPECT_EQ(report.components, 1) << e.file;
+    EXPECT_NO_THROW(validateMesh(m, e.file));
+    EXPECT_NEAR(calcVolume(m) / 1000.0, e.volume_ml, 0.05) << e.file;
+
+    const LoadedMesh loaded = readMesh(path);
+    EXPECT_NEAR(loaded.repair.volume_after_mm3, loaded.repair.volume_before_mm3, 1e-6 * loaded.repair.volume_before_mm3)
+        << e.file;
+    EXPECT_FALSE(loaded.repair.leftDefects()) << e.file;
+  }
+}
+
+TEST(MeshIo, FlatPocketAsSegmentedIsRemovedWhenLoaded) {
+  // As in the subject's meshes: on the cube's edge 0–1 a flat pocket of four triangles whose
+  // third corners, 8 and 9, are two vertices at one position. Merging them leaves two
+  // collapsed triangles and a back-to-back pair, which go.
+  const TriangleMesh cube = makeCube(10.0);
+  TriangleMesh pocket = cube;
+  pocket.vertices_mm.conservativeResize(3, 10);
+  pocket.vertices_mm.col(8) = pocket.vertices_mm.col(9) = Eigen::Vector3d(5.0, -0.1, 0.0);
+  pocket.triangles.conservativeResize(3, 16);
+  pocket.triangles.rightCols(4) << 0, 1, 1, 9,  //
+      8, 9, 8, 8,                                //
+      1, 0, 9, 0;
+  const auto dir = makeTempDir("pocket");
+  const std::string path = (dir / "pocket.ply").string();
+  writePly(path, pocket);
+  ASSERT_EQ(checkMesh(pocket).non_manifold_edges, 1);
+
+  std::vector<std::string> warnings;
+  const TriangleMesh m = loadMesh(path, [&](const std::string& w) { warnings.push_back(w); });
+  ASSERT_EQ(warnings.size(), 1u);
+  for (const std::string& part : {path + ": ", std::string("1 non-manifold edge repaired"),
+                                 std::string("2 collapsed triangles"), std::string("1 back-to-back triangle pair")})
+    EXPECT_NE(warnings[0].find(part), std::string::npos) << warnings[0];
+  EXPECT_EQ(m.triangles, cube.triangles);
+  EXPECT_TRUE(test::isApprox(m.vertices_mm, cube.vertices_mm, 0, 0));
 }
 
 TEST(MeshIo, BoxHasFileBounds) {

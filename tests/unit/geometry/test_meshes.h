@@ -85,6 +85,65 @@ inline TriangleMesh makeIcosphere(double radius_mm, int levels) {
   return m;
 }
 
+/// Closed, outward-wound surface of a union of grid cells: cell (i, j, k) is the cube
+/// [i, i+1] × [j, j+1] × [k, k+1] times `size_mm` (mm). Each face between a cell and a missing
+/// neighbour gives two triangles; vertices are shared by grid point, so cells that touch only
+/// along an edge or at a corner give a pinched edge or vertex.
+inline TriangleMesh makeCellUnion(const std::vector<std::array<int, 3>>& cells, double size_mm = 1.0) {
+  const auto has = [&](std::array<int, 3> c) { return std::find(cells.begin(), cells.end(), c) != cells.end(); };
+  std::map<std::array<int, 3>, int> index_of;
+  std::vector<std::array<int, 3>> points, faces;
+  const auto vertex = [&](std::array<int, 3> p) {
+    const auto [it, added] = index_of.emplace(p, int(points.size()));
+    if (added) points.push_back(p);
+    return it->second;
+  };
+  for (const auto& cell : cells)
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side : {-1, 1}) {
+        std::array<int, 3> next = cell;
+        next[std::size_t(axis)] += side;
+        if (has(next)) continue;
+        const std::size_t u = std::size_t(axis + 1) % 3, w = std::size_t(axis + 2) % 3;
+        std::array<int, 3> p0 = cell;
+        p0[std::size_t(axis)] += side > 0 ? 1 : 0;
+        std::array<int, 3> p1 = p0, p2 = p0, p3 = p0;
+        p1[u] += 1;
+        p2[u] += 1;
+        p2[w] += 1;
+        p3[w] += 1;
+        const int a = vertex(p0), b = vertex(p1), c = vertex(p2), d = vertex(p3);
+        // (e_u × e_w) = e_axis: counter-clockwise seen from +axis.
+        if (side > 0) {
+          faces.push_back({a, b, c});
+          faces.push_back({a, c, d});
+        } else {
+          faces.push_back({a, c, b});
+          faces.push_back({a, d, c});
+        }
+      }
+  TriangleMesh m;
+  m.vertices_mm.resize(3, Eigen::Index(points.size()));
+  for (std::size_t i = 0; i < points.size(); ++i)
+    m.vertices_mm.col(Eigen::Index(i)) << size_mm * points[i][0], size_mm * points[i][1], size_mm * points[i][2];
+  m.triangles.resize(3, Eigen::Index(faces.size()));
+  for (std::size_t i = 0; i < faces.size(); ++i) m.triangles.col(Eigen::Index(i)) << faces[i][0], faces[i][1], faces[i][2];
+  return m;
+}
+
+/// `mesh` with the vertices `extra_mm` (mm) and the triangles `extra` (indices into the
+/// combined vertex list) appended.
+inline TriangleMesh appendTriangles(const TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& extra_mm,
+                                    const std::vector<std::array<int, 3>>& extra) {
+  TriangleMesh out = mesh;
+  const Eigen::Index V = mesh.vertices_mm.cols(), T = mesh.triangles.cols();
+  out.vertices_mm.conservativeResize(3, V + Eigen::Index(extra_mm.size()));
+  for (std::size_t i = 0; i < extra_mm.size(); ++i) out.vertices_mm.col(V + Eigen::Index(i)) = extra_mm[i];
+  out.triangles.conservativeResize(3, T + Eigen::Index(extra.size()));
+  for (std::size_t i = 0; i < extra.size(); ++i) out.triangles.col(T + Eigen::Index(i)) << extra[i][0], extra[i][1], extra[i][2];
+  return out;
+}
+
 /// Removes triangle `t` from `mesh`.
 inline TriangleMesh removeTriangle(const TriangleMesh& mesh, int t) {
   TriangleMesh out = mesh;
