@@ -11,7 +11,15 @@ Eigen::Quaterniond add(const Eigen::Quaterniond& a, const Eigen::Quaterniond& b,
   return Eigen::Quaterniond(a.w() + s * b.w(), a.x() + s * b.x(), a.y() + s * b.y(), a.z() + s * b.z());
 }
 
-/// Blended, normalised dual quaternion applied to p.
+void checkTransforms(const Eigen::MatrixXd& weights, const std::vector<DualQuaternion>& transforms, const char* who) {
+  if (weights.rows() != static_cast<Eigen::Index>(transforms.size())) {
+    throw std::invalid_argument(std::string(who) + ": " + std::to_string(weights.rows()) + " weight rows for " +
+                                std::to_string(transforms.size()) + " bone transforms");
+  }
+}
+
+}  // namespace
+
 Eigen::Vector3d applyBlend(const double* w, const std::vector<DualQuaternion>& dqs, const Eigen::Vector3d& p) {
   const int B = static_cast<int>(dqs.size());
   int pivot = 0;
@@ -31,15 +39,6 @@ Eigen::Vector3d applyBlend(const double* w, const std::vector<DualQuaternion>& d
   const Eigen::Vector3d translation = 2.0 * t.vec();
   return real * p + translation;
 }
-
-void checkTransforms(const Eigen::MatrixXd& weights, const std::vector<DualQuaternion>& transforms, const char* who) {
-  if (weights.rows() != static_cast<Eigen::Index>(transforms.size())) {
-    throw std::invalid_argument(std::string(who) + ": " + std::to_string(weights.rows()) + " weight rows for " +
-                                std::to_string(transforms.size()) + " bone transforms");
-  }
-}
-
-}  // namespace
 
 DualQuaternion toDualQuaternion(const Eigen::Isometry3d& transform) {
   DualQuaternion dq;

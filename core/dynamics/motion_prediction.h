@@ -33,6 +33,11 @@ DualQuaternion toDualQuaternion(const Eigen::Isometry3d& transform);
 /// The isometry of a unit dual quaternion: rotation of `real`, t = 2 dual ⊗ real*.
 Eigen::Isometry3d toIsometry(const DualQuaternion& dq);
 
+/// The point p (mm) moved by the dual-quaternion blend of `transforms` with the B weights at
+/// `weights` (≥ 0, positive sum; unchecked: the hot loop of every carried point).
+Eigen::Vector3d applyBlend(const double* weights, const std::vector<DualQuaternion>& transforms,
+                           const Eigen::Vector3d& p_mm);
+
 /// Dual-quaternion blend of `transforms` (size B) with `weights` (B, ≥ 0, sum > 0): see file comment.
 /// @throws std::invalid_argument on a size mismatch or a zero weight sum.
 Eigen::Isometry3d blendTransforms(const Eigen::Ref<const Eigen::VectorXd>& weights,

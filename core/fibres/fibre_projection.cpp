@@ -21,7 +21,7 @@ void checkProjectionSettings(const ProjectionSettings& s) {
                                 std::to_string(s.end_max_move_mm));
 }
 
-ProjectionResult projectInside(const GaussianField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm,
+ProjectionResult projectInside(const ImplicitField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm,
                                double max_move_mm) {
   checkProjectionSettings(settings);
   if (!(max_move_mm >= 0))
@@ -70,7 +70,7 @@ ProjectionResult projectInside(const GaussianField& field, const ProjectionSetti
   return result;
 }
 
-double placeBetweenInsideNeighbours(const GaussianField& field, const ProjectionSettings& settings,
+double placeBetweenInsideNeighbours(const ImplicitField& field, const ProjectionSettings& settings,
                                     const Eigen::Vector3d& a_mm, const Eigen::Vector3d& b_mm, double t,
                                     Eigen::Vector3d& p_mm, int samples) {
   const double fa = field.calcValue(a_mm), fb = field.calcValue(b_mm);

@@ -18,7 +18,7 @@
 /// path reaches the muscle, even where the muscle is thinner than 2·margin. Points the
 /// ascent cannot bring inside (no slope, or too far) are placed from their fibre
 /// neighbours by placeBetweenInsideNeighbours.
-#include "rbf/gaussian_field.h"
+#include "rbf/implicit_field.h"
 
 #include <Eigen/Core>
 
@@ -70,7 +70,7 @@ struct ProjectionResult {
 /// muscle, also where the muscle is thinner than 2·margin). See the file comment for why.
 /// The path is at most `max_move_mm` long (steps are shortened to what is left of it).
 /// @throws std::invalid_argument on bad settings or a negative max_move_mm.
-ProjectionResult projectInside(const GaussianField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm,
+ProjectionResult projectInside(const ImplicitField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm,
                                double max_move_mm = std::numeric_limits<double>::infinity());
 
 /// Fallback for a fibre point p (f(p) ≤ 0 after projectInside) between the fibre points
@@ -80,7 +80,7 @@ ProjectionResult projectInside(const GaussianField& field, const ProjectionSetti
 /// at the sample of highest f (never below f(nearer end) > 0). projectInside then
 /// improves q (f only rises). Returns f at the placed point (> 0) and sets p_mm to it.
 /// @throws std::invalid_argument if f(a) ≤ 0, f(b) ≤ 0, t ∉ (0, 1) or samples < 1.
-double placeBetweenInsideNeighbours(const GaussianField& field, const ProjectionSettings& settings,
+double placeBetweenInsideNeighbours(const ImplicitField& field, const ProjectionSettings& settings,
                                     const Eigen::Vector3d& a_mm, const Eigen::Vector3d& b_mm, double t,
                                     Eigen::Vector3d& p_mm, int samples = 20);
 

@@ -1,5 +1,6 @@
 #include "geometry/mesh_measures.h"
 
+#include <algorithm>
 #include <numeric>
 #include <vector>
 
@@ -26,7 +27,10 @@ double calcArea(const TriangleMesh& mesh) {
   return twice_area / 2.0;
 }
 
-int countComponents(const TriangleMesh& mesh) {
+namespace {
+
+/// Piece of every vertex (−1 for vertices no triangle uses), pieces numbered 0 … count − 1.
+std::vector<int> labelComponents(const TriangleMesh& mesh, int& count) {
   std::vector<int> parent(static_cast<std::size_t>(mesh.countVertices()));
   std::iota(parent.begin(), parent.end(), 0);
   const auto find = [&](int v) {
@@ -39,9 +43,39 @@ int countComponents(const TriangleMesh& mesh) {
       used[mesh.triangles(c, t)] = 1;
       parent[find(mesh.triangles(c, t))] = find(mesh.triangles((c + 1) % 3, t));
     }
+  std::vector<int> label(parent.size(), -1), root_label(parent.size(), -1);
+  count = 0;
+  for (int v = 0; v < int(parent.size()); ++v) {
+    if (!used[v]) continue;
+    const int r = find(v);
+    if (root_label[r] < 0) root_label[r] = count++;
+    label[v] = root_label[r];
+  }
+  return label;
+}
+
+}  // namespace
+
+int countComponents(const TriangleMesh& mesh) {
   int count = 0;
-  for (int v = 0; v < int(parent.size()); ++v) count += (used[v] && find(v) == v) ? 1 : 0;
+  labelComponents(mesh, count);
   return count;
+}
+
+std::vector<double> calcComponentVolumes(const TriangleMesh& mesh) {
+  int count = 0;
+  const std::vector<int> label = labelComponents(mesh, count);
+  std::vector<double> volumes(static_cast<std::size_t>(count), 0.0);
+  if (count == 0) return volumes;
+  const Eigen::Vector3d o = 0.5 * (mesh.vertices_mm.rowwise().minCoeff() + mesh.vertices_mm.rowwise().maxCoeff());
+  for (int t = 0; t < mesh.countTriangles(); ++t) {
+    const Eigen::Vector3d a = mesh.vertices_mm.col(mesh.triangles(0, t)) - o;
+    const Eigen::Vector3d b = mesh.vertices_mm.col(mesh.triangles(1, t)) - o;
+    const Eigen::Vector3d c = mesh.vertices_mm.col(mesh.triangles(2, t)) - o;
+    volumes[static_cast<std::size_t>(label[static_cast<std::size_t>(mesh.triangles(0, t))])] += a.dot(b.cross(c)) / 6.0;
+  }
+  std::sort(volumes.begin(), volumes.end(), [](double x, double y) { return x > y; });
+  return volumes;
 }
 
 }  // namespace rbfmuscle

@@ -3,6 +3,8 @@
 /// Global measures of a triangle mesh: enclosed volume, surface area, components.
 #include "geometry/triangle_mesh.h"
 
+#include <vector>
+
 namespace rbfmuscle {
 
 /// Signed enclosed volume (mm³) by the divergence theorem:
@@ -17,5 +19,9 @@ double calcArea(const TriangleMesh& mesh);
 /// Number of connected pieces: triangles are connected when they share a vertex.
 /// Vertices used by no triangle are not counted.
 int countComponents(const TriangleMesh& mesh);
+
+/// Signed enclosed volume (mm³) of each connected piece (as countComponents), largest first:
+/// a surface that came apart shows its crumbs here, a cavity as a negative volume.
+std::vector<double> calcComponentVolumes(const TriangleMesh& mesh);
 
 }  // namespace rbfmuscle

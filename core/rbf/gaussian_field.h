@@ -2,6 +2,7 @@
 /// @file
 /// The Gaussian RBF implicit field of a muscle: value, gradient, Hessian,
 /// mean curvature and their derivatives with respect to the centres.
+#include "rbf/implicit_field.h"
 #include "rbf/spatial_grid.h"
 
 #include <Eigen/Core>
@@ -55,7 +56,7 @@ struct ActiveCentres {
 ///
 /// Every calc/find method is const and thread-safe (scratch is thread-local);
 /// setters are not. Query points must be finite (std::invalid_argument).
-class GaussianField {
+class GaussianField final : public ImplicitField {
  public:
   /// Default cut-off ε on φ.
   static constexpr double kDefaultCutoff = 1e-8;
@@ -122,9 +123,9 @@ class GaussianField {
                               ActiveCentres& out) const;
 
   /// f(p) = b + Σ λᵢ φᵢ(p).
-  double calcValue(const Eigen::Vector3d& p_mm) const;
+  double calcValue(const Eigen::Vector3d& p_mm) const override;
   /// ∇f(p) (field unit / mm).
-  Eigen::Vector3d calcGradient(const Eigen::Vector3d& p_mm) const;
+  Eigen::Vector3d calcGradient(const Eigen::Vector3d& p_mm) const override;
   /// Value, gradient and Hessian in one pass.
   FieldEvaluation calcEvaluation(const Eigen::Vector3d& p_mm) const;
   /// Mean curvature κ(p) = tr(H f)/3 = (2/3) Σ αᵢλᵢφᵢ (2αᵢ rᵢ² − 3)  (field unit / mm²).

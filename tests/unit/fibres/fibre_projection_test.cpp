@@ -2,6 +2,7 @@
 /// thinner than one projection step (max f < margin), a thick rod, the flat field far
 /// outside, and an arc whose chord leaves the muscle.
 #include "fibres/fibre_projection.h"
+#include "rbf/gaussian_field.h"
 
 #include <gtest/gtest.h>
 

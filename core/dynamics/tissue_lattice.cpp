@@ -1,0 +1,261 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dynamics/tissue_lattice.h"
+
+#include "dynamics/thickness_axes.h"
+#include "geometry/mesh_distance.h"
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace rbfmuscle {
+
+namespace {
+
+Eigen::Vector3i cellOf(const Eigen::Vector3d& p, const Eigen::Vector3d& origin, double h) {
+  return ((p - origin) / h).array().floor().cast<int>();
+}
+
+}  // namespace
+
+TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Attachments& attachments,
+                             const Eigen::Vector3d& origin_mm, double cell_mm, const Eigen::Matrix3Xd& cover_mm,
+                             const MeshDistance* muscle_surface, const LatticeSettings& settings)
+    : num_bones_(attachments.num_bones), settings_(settings), origin_mm_(origin_mm), cell_mm_(cell_mm) {
+  if (!(cell_mm > 0.0) || !std::isfinite(cell_mm) || !origin_mm.allFinite())
+    throw std::invalid_argument("TissueLattice: the spacing must be > 0 and the origin finite");
+  if (!(settings.max_thinning >= 1.0) || settings.smoothing_passes < 0 || !(settings.blend_length_mm > 0.0))
+    throw std::invalid_argument("TissueLattice: need max_thinning >= 1, smoothing_passes >= 0, blend_length_mm > 0");
+  if (cover_mm.cols() == 0 || !cover_mm.allFinite())
+    throw std::invalid_argument("TissueLattice: the points to cover must be finite and not empty");
+  // Lattice box: the cover points' cells and their neighbours, corners included.
+  Eigen::Vector3i lo = Eigen::Vector3i::Constant(std::numeric_limits<int>::max());
+  Eigen::Vector3i hi = Eigen::Vector3i::Constant(std::numeric_limits<int>::min());
+  for (Eigen::Index j = 0; j < cover_mm.cols(); ++j) {
+    const Eigen::Vector3i c = cellOf(cover_mm.col(j), origin_mm_, cell_mm_);
+    lo = lo.cwiseMin(c);
+    hi = hi.cwiseMax(c);
+  }
+  lo.array() -= 1;
+  hi.array() += 2;
+  origin_mm_ += cell_mm_ * lo.cast<double>();
+  dims_ = hi - lo + Eigen::Vector3i::Ones();
+  if (static_cast<double>(dims_.prod()) > 5e7) throw std::invalid_argument("TissueLattice: more than 5e7 lattice nodes");
+  node_of_cell_corner_.assign(static_cast<size_t>(dims_.prod()), -1);
+  std::vector<Eigen::Vector3i> active;
+  for (Eigen::Index j = 0; j < cover_mm.cols(); ++j) {
+    const Eigen::Vector3i c = cellOf(cover_mm.col(j), origin_mm_, cell_mm_);
+    for (int dz = -1; dz <= 2; ++dz)
+      for (int dy = -1; dy <= 2; ++dy)
+        for (int dx = -1; dx <= 2; ++dx) {
+          const Eigen::Vector3i n = c + Eigen::Vector3i(dx, dy, dz);
+          int& slot = node_of_cell_corner_[static_cast<size_t>((n.z() * dims_.y() + n.y()) * dims_.x() + n.x())];
+          if (slot >= 0) continue;
+          slot = static_cast<int>(active.size());
+          active.push_back(n);
+        }
+  }
+  const int k = static_cast<int>(active.size());
+  node_ijk_.resize(3, k);
+  rest_nodes_mm_.resize(3, k);
+  for (int n = 0; n < k; ++n) {
+    node_ijk_.col(n) = active[static_cast<size_t>(n)];
+    rest_nodes_mm_.col(n) = origin_mm_ + cell_mm_ * active[static_cast<size_t>(n)].cast<double>();
+  }
+  neighbours_.assign(static_cast<size_t>(k), {-1, -1, -1, -1, -1, -1});
+  for (int n = 0; n < k; ++n)
+    for (int axis = 0; axis < 3; ++axis)
+      for (int side = 0; side < 2; ++side)
+        neighbours_[static_cast<size_t>(n)][static_cast<size_t>(2 * axis + side)] =
+            findNode(active[static_cast<size_t>(n)] + (side ? 1 : -1) * Eigen::Vector3i::Unit(axis));
+  node_weights_ = calcBlendWeights(rest_nodes_mm_, rest_centres_mm, attachments, settings_.blend_length_mm);
+
+  if (settings_.incompressible && muscle_surface) {
+    const ThicknessAxes axes = calcThicknessAxes(*muscle_surface, rest_nodes_mm_);
+    mid_vectors_mm_ = -(axes.axes.array().rowwise() * axes.offsets_mm.transpose().array()).matrix();
+    for (int pass = 0; pass < settings_.smoothing_passes; ++pass) {
+      Eigen::Matrix3Xd smoothed = mid_vectors_mm_;
+      for (int n = 0; n < k; ++n) {
+        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+        int count = 0;
+        for (int nb : neighbours_[static_cast<size_t>(n)])
+          if (nb >= 0) {
+            sum += mid_vectors_mm_.col(nb);
+            ++count;
+          }
+        if (count > 0) smoothed.col(n) = 0.5 * mid_vectors_mm_.col(n) + 0.5 * sum / count;
+      }
+      mid_vectors_mm_.swap(smoothed);
+    }
+    // k = −div v: 1 where the mid-set is a surface (v = −o n), 2 where it is a line.
+    thin_directions_.resize(k);
+    for (int n = 0; n < k; ++n)
+      thin_directions_[n] = std::clamp(-differentiate(mid_vectors_mm_, n).trace(), 1.0, 2.0);
+  }
+  update(std::vector<Eigen::Isometry3d>(static_cast<size_t>(num_bones_), Eigen::Isometry3d::Identity()));
+}
+
+int TissueLattice::findNode(const Eigen::Vector3i& ijk) const {
+  if ((ijk.array() < 0).any() || (ijk.array() >= dims_.array()).any()) return -1;
+  return node_of_cell_corner_[static_cast<size_t>((ijk.z() * dims_.y() + ijk.y()) * dims_.x() + ijk.x())];
+}
+
+int TissueLattice::findNodeAt(const Eigen::Vector3d& p_mm) const {
+  const Eigen::Vector3d u = (p_mm - origin_mm_) / cell_mm_;
+  const Eigen::Vector3d r = u.array().round();
+  if (!u.allFinite() || (u - r).cwiseAbs().maxCoeff() > 1e-6) return -1;
+  return findNode(r.cast<int>());
+}
+
+Eigen::Vector3d TissueLattice::getRestNode(int n) const { return rest_nodes_mm_.col(n); }
+
+Eigen::Matrix3d TissueLattice::differentiate(const Eigen::Matrix3Xd& positions, int n) const {
+  Eigen::Matrix3d d;
+  const std::array<int, 6>& nb = neighbours_[static_cast<size_t>(n)];
+  for (int axis = 0; axis < 3; ++axis) {
+    const int lo = nb[static_cast<size_t>(2 * axis)], hi = nb[static_cast<size_t>(2 * axis + 1)];
+    if (lo >= 0 && hi >= 0)
+      d.col(axis) = (positions.col(hi) - positions.col(lo)) / (2.0 * cell_mm_);
+    else if (hi >= 0)
+      d.col(axis) = (positions.col(hi) - positions.col(n)) / cell_mm_;
+    else if (lo >= 0)
+      d.col(axis) = (positions.col(n) - positions.col(lo)) / cell_mm_;
+    else
+      d.col(axis) = Eigen::Vector3d::Unit(axis);
+  }
+  return d;
+}
+
+void TissueLattice::setRestClearance(const ImplicitField& bones) {
+  rest_clearance_mm_.resize(countNodes());
+  for (int n = 0; n < countNodes(); ++n) rest_clearance_mm_[n] = std::min(bones.calcValue(rest_nodes_mm_.col(n)), 0.0);
+}
+
+void TissueLattice::update(const std::vector<Eigen::Isometry3d>& bone_motion_M, const ImplicitField* bones) {
+  if (static_cast<int>(bone_motion_M.size()) != num_bones_)
+    throw std::invalid_argument("TissueLattice: " + std::to_string(bone_motion_M.size()) + " bone motions for " +
+                                std::to_string(num_bones_) + " bones");
+  for (size_t b = 0; b < bone_motion_M.size(); ++b) {
+    const Eigen::Matrix3d r = bone_motion_M[b].linear();
+    if (!bone_motion_M[b].matrix().allFinite() || !(r.transpose() * r).isIdentity(1e-9) || r.determinant() < 0.0)
+      throw std::invalid_argument("TissueLattice: bone motion " + std::to_string(b) + " is not a finite rigid transform");
+  }
+  motions_ = bone_motion_M;
+  transforms_.clear();
+  for (const Eigen::Isometry3d& m : motions_) transforms_.push_back(toDualQuaternion(m));
+  const int k = countNodes();
+  blended_mm_.resize(3, k);
+  for (int n = 0; n < k; ++n) blended_mm_.col(n) = applyBlend(node_weights_.col(n).data(), transforms_, rest_nodes_mm_.col(n));
+  blend_volume_changes_.resize(k);
+  nodes_mm_ = blended_mm_;
+  const bool thin = mid_vectors_mm_.cols() == k;
+  for (int n = 0; n < k; ++n) {
+    const Eigen::Matrix3d d = differentiate(blended_mm_, n);
+    const double j = d.determinant();
+    blend_volume_changes_[n] = j;
+    if (!thin) continue;
+    const double t = j > 0.0 ? std::clamp(std::pow(j, -1.0 / thin_directions_[n]), 1.0 / settings_.max_thinning,
+                                          settings_.max_thinning)
+                             : settings_.max_thinning;  // a fold thickens as much as allowed
+    nodes_mm_.col(n) -= (t - 1.0) * (d * mid_vectors_mm_.col(n));
+  }
+  slid_nodes_ = 0;
+  if (!bones || !settings_.slide_on_bones || rest_clearance_mm_.size() != k) return;
+  for (int n = 0; n < k; ++n) {
+    const FieldSample s = bones->calcSample(nodes_mm_.col(n));
+    const double depth = rest_clearance_mm_[n] - s.value;
+    const double g2 = s.gradient.squaredNorm();
+    if (!(depth > 0.0) || !(g2 > 0.0)) continue;
+    nodes_mm_.col(n) += depth * s.gradient / g2;
+    ++slid_nodes_;
+  }
+}
+
+LatticeBinding TissueLattice::bind(const Eigen::Matrix3Xd& rest_mm, const std::vector<int>& rigid_bone) const {
+  const Eigen::Index p = rest_mm.cols();
+  if (!rigid_bone.empty() && static_cast<Eigen::Index>(rigid_bone.size()) != p)
+    throw std::invalid_argument("TissueLattice::bind: " + std::to_string(rigid_bone.size()) + " bone ties for " +
+                                std::to_string(p) + " points");
+  LatticeBinding binding;
+  binding.rest_mm = rest_mm;
+  binding.cells.assign(static_cast<size_t>(p), -1);
+  binding.local.setZero(3, p);
+  binding.rigid_bone.assign(static_cast<size_t>(p), -1);
+  for (Eigen::Index j = 0; j < p; ++j) {
+    const int bone = rigid_bone.empty() ? -1 : rigid_bone[static_cast<size_t>(j)];
+    if (bone >= num_bones_) throw std::invalid_argument("TissueLattice::bind: bone " + std::to_string(bone) + " out of range");
+    if (bone >= 0) {
+      binding.rigid_bone[static_cast<size_t>(j)] = bone;
+      continue;
+    }
+    if (!rest_mm.col(j).allFinite()) throw std::invalid_argument("TissueLattice::bind: point " + std::to_string(j) + " is not finite");
+    const Eigen::Vector3d u = (rest_mm.col(j) - origin_mm_) / cell_mm_;
+    const Eigen::Vector3i c = u.array().floor().cast<int>();
+    for (int dz = 0; dz <= 1; ++dz)
+      for (int dy = 0; dy <= 1; ++dy)
+        for (int dx = 0; dx <= 1; ++dx)
+          if (findNode(c + Eigen::Vector3i(dx, dy, dz)) < 0)
+            throw std::invalid_argument("TissueLattice::bind: point " + std::to_string(j) +
+                                        " lies outside the lattice's covered cells");
+    binding.cells[static_cast<size_t>(j)] = findNode(c);
+    binding.local.col(j) = u - c.cast<double>();
+  }
+  return binding;
+}
+
+void TissueLattice::carry(const LatticeBinding& points, Eigen::Matrix3Xd& out) const {
+  out.resize(3, points.size());
+  for (int j = 0; j < points.size(); ++j) {
+    const int bone = points.rigid_bone[static_cast<size_t>(j)];
+    if (bone >= 0) {
+      out.col(j) = motions_[static_cast<size_t>(bone)] * Eigen::Vector3d(points.rest_mm.col(j));
+      continue;
+    }
+    const Eigen::Vector3i c = node_ijk_.col(points.cells[static_cast<size_t>(j)]);
+    const Eigen::Vector3d u = points.local.col(j);
+    Eigen::Vector3d y = Eigen::Vector3d::Zero();
+    for (int corner = 0; corner < 8; ++corner) {
+      const int a = corner & 1, b = (corner >> 1) & 1, e = (corner >> 2) & 1;
+      const double w = (a ? u.x() : 1.0 - u.x()) * (b ? u.y() : 1.0 - u.y()) * (e ? u.z() : 1.0 - u.z());
+      y += w * nodes_mm_.col(findNode(c + Eigen::Vector3i(a, b, e)));
+    }
+    out.col(j) = y;
+  }
+}
+
+void TissueLattice::carry(const LatticeBinding& points, Eigen::Matrix3Xd& out,
+                          std::vector<Eigen::Matrix3d>& frames) const {
+  carry(points, out);
+  frames.resize(static_cast<size_t>(points.size()));
+  for (int j = 0; j < points.size(); ++j) {
+    const int bone = points.rigid_bone[static_cast<size_t>(j)];
+    if (bone >= 0) {
+      frames[static_cast<size_t>(j)] = motions_[static_cast<size_t>(bone)].linear();
+      continue;
+    }
+    const Eigen::Vector3i c = node_ijk_.col(points.cells[static_cast<size_t>(j)]);
+    const Eigen::Vector3d u = points.local.col(j);
+    Eigen::Matrix3d f = Eigen::Matrix3d::Zero();
+    for (int corner = 0; corner < 8; ++corner) {
+      const int a = corner & 1, b = (corner >> 1) & 1, e = (corner >> 2) & 1;
+      const double wx = a ? u.x() : 1.0 - u.x(), wy = b ? u.y() : 1.0 - u.y(), wz = e ? u.z() : 1.0 - u.z();
+      const double sx = a ? 1.0 : -1.0, sy = b ? 1.0 : -1.0, sz = e ? 1.0 : -1.0;
+      const Eigen::Vector3d node = nodes_mm_.col(findNode(c + Eigen::Vector3i(a, b, e)));
+      f.col(0) += (sx * wy * wz) * node;
+      f.col(1) += (wx * sy * wz) * node;
+      f.col(2) += (wx * wy * sz) * node;
+    }
+    frames[static_cast<size_t>(j)] = f / cell_mm_;
+  }
+}
+
+void TissueLattice::calcVolumeChanges(Eigen::VectorXd& out) const {
+  out.resize(countNodes());
+  for (int n = 0; n < countNodes(); ++n) out[n] = differentiate(nodes_mm_, n).determinant();
+}
+
+}  // namespace rbfmuscle

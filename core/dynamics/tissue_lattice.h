@@ -1,0 +1,138 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// @file
+/// The map that carries a muscle's tissue with its bones: a lattice of rest nodes moved by
+/// the bone blend and thinned to keep the tissue's volume, interpolated everywhere else.
+///
+/// 1. Blend: node x moves to Φ(x), the dual-quaternion blend of the bone motions with the
+///    blend weights of x (attachment.h: inverse distances to each bone's attachment).
+/// 2. Incompressibility: Φ stretches the tissue between bones turning apart without thinning
+///    it (a flexed gluteus maximus grew by 40 %), and lowering the field to restore the volume
+///    breaks thin parts first. So each node moves towards the muscle's rest mid-surface (or
+///    mid-line) by the factor t = J^(−1/k): J = det DΦ (differences of neighbouring nodes) and
+///    k the number of directions in which the mid-set is thin (1 for a sheet, 2 for a spindle,
+///    from the divergence of the rest mid-surface vectors v = m − x, thickness_axes.h):
+///      y = Φ(x) − (t − 1) DΦ v.
+///    A sheet then scales across its thickness by 1/J, a spindle across its section by 1/√J.
+/// 3. Everything else the map carries (kernel centres and frames, fibre points, surface
+///    vertices) is bound at rest to its lattice cell and moves by trilinear interpolation of
+///    the cell's eight nodes; a kernel's frame F is the interpolant's gradient. So kernels,
+///    quadrature points and surfaces move by one and the same map, and the volume measured
+///    over the carried lattice matches the field's.
+/// 4. Bones (optional): a node the map carries into a bone slides out onto its surface along
+///    the bone's distance gradient, so tissue lying on a bone slides along it instead of
+///    entering it, and a bone moving into the muscle displaces tissue instead of cutting it.
+///    A node that lay inside a bone at rest (the shell around the muscle) only may not go
+///    deeper than it was.
+/// Points tied to a bone (attached kernels, fibre ends) move rigidly with it instead.
+/// A common rigid motion of all bones moves every node, and so every point, rigidly.
+#include "dynamics/attachment.h"
+#include "dynamics/motion_prediction.h"
+#include "rbf/implicit_field.h"
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <array>
+#include <vector>
+
+namespace rbfmuscle {
+
+/// Rest points bound to the lattice.
+struct LatticeBinding {
+  std::vector<int> cells;          ///< lower corner node (active index) of each point's cell; −1: tied to a bone
+  Eigen::Matrix3Xd local;          ///< (u, v, w) ∈ [0, 1]³ of each point in its cell
+  std::vector<int> rigid_bone;     ///< bone a point is tied to, −1 when carried by the lattice
+  Eigen::Matrix3Xd rest_mm;        ///< rest positions (3×P, M)
+  int size() const { return static_cast<int>(rest_mm.cols()); }
+};
+
+/// Settings of TissueLattice.
+struct LatticeSettings {
+  double blend_length_mm = 1.0;  ///< ℓ of the blend weights (mm), > 0
+  bool incompressible = true;    ///< step 2 of the file comment (false: the blend alone)
+  double max_thinning = 4.0;     ///< t is clamped to [1/max, max], ≥ 1
+  int smoothing_passes = 3;      ///< Laplacian passes over the rest mid-surface vectors, ≥ 0
+  bool slide_on_bones = true;    ///< step 4 of the file comment (false: bones are ignored here)
+};
+
+/// The carrying map (file comment). Rest set-up is expensive; update() and carry() are cheap.
+class TissueLattice {
+ public:
+  /// @param rest_centres_mm the kernels' rest centres (3×N, M) with `attachments` (blend weights)
+  /// @param origin_mm a lattice node (M, rest); @param cell_mm spacing h > 0
+  /// @param cover_mm every point to be bound later must lie in a cell of these points' cells
+  ///   or their neighbours (3×P: kernel centres, quadrature nodes, fibre points, surface vertices)
+  /// @param mid_vectors_mm rest mid-surface vectors v at `cover_mm` points' cell corners are
+  ///   found from `muscle_surface` (the rest muscle mesh in M); null: no incompressibility
+  /// @throws std::invalid_argument for bad settings, sizes or non-finite input.
+  TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Attachments& attachments,
+                const Eigen::Vector3d& origin_mm, double cell_mm, const Eigen::Matrix3Xd& cover_mm,
+                const class MeshDistance* muscle_surface, const LatticeSettings& settings = {});
+
+  /// Binds rest points (3×P, M) to their cells; a point with rigid_bone[j] ≥ 0 moves with
+  /// that bone instead. @throws std::invalid_argument if a point lies outside the covered cells.
+  LatticeBinding bind(const Eigen::Matrix3Xd& rest_mm, const std::vector<int>& rigid_bone = {}) const;
+
+  /// Records each node's clearance from the bones at rest (`bones`: the signed distance to the
+  /// nearest bone in M, +∞ or at least a band where far), the reference of step 4.
+  void setRestClearance(const ImplicitField& bones);
+
+  /// Moves the nodes for the bone motions T_b (B, rest → now, in M); with `bones` (posed for
+  /// this frame, as in setRestClearance) nodes are slid out of them (file comment, step 4).
+  /// @throws std::invalid_argument on a wrong count or a non-rigid, non-finite transform.
+  void update(const std::vector<Eigen::Isometry3d>& bone_motion_M, const ImplicitField* bones = nullptr);
+  /// Nodes slid out of a bone in the last update.
+  int countSlidNodes() const { return slid_nodes_; }
+
+  /// Current positions (3×P) of bound points.
+  void carry(const LatticeBinding& points, Eigen::Matrix3Xd& out) const;
+  /// Current positions and frames F (the map's gradient; the bone's rotation for tied points).
+  void carry(const LatticeBinding& points, Eigen::Matrix3Xd& out, std::vector<Eigen::Matrix3d>& frames) const;
+
+  /// Lattice coordinates → whether node (i, j, k) is active, and its index.
+  int findNode(const Eigen::Vector3i& ijk) const;
+  /// The active node within 1e-6 spacing of the rest point p, −1 when there is none.
+  int findNodeAt(const Eigen::Vector3d& p_mm) const;
+  /// Rest position of active node n.
+  Eigen::Vector3d getRestNode(int n) const;
+  /// Current positions of the active nodes (3×K).
+  const Eigen::Matrix3Xd& getNodes() const { return nodes_mm_; }
+  /// det of the current map's differences at every active node (K), from the thinned nodes.
+  void calcVolumeChanges(Eigen::VectorXd& out) const;
+  /// The blend's own volume change J = det DΦ at every active node (K) of the last update.
+  const Eigen::VectorXd& getBlendVolumeChanges() const { return blend_volume_changes_; }
+  /// Number of active nodes K.
+  int countNodes() const { return static_cast<int>(rest_nodes_mm_.cols()); }
+  /// Spacing h (mm).
+  double getCellSize() const { return cell_mm_; }
+  /// Number of bones B.
+  int getNumBones() const { return num_bones_; }
+
+ private:
+  /// Differences of `positions` at node n along the lattice axes (central where both
+  /// neighbours are active, else one-sided, else the rest axis).
+  Eigen::Matrix3d differentiate(const Eigen::Matrix3Xd& positions, int n) const;
+
+  int num_bones_ = 0;
+  LatticeSettings settings_;
+  Eigen::Vector3d origin_mm_;
+  double cell_mm_;
+  Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
+  std::vector<int> node_of_cell_corner_;  ///< dense: lattice node → active index, −1 inactive
+  Eigen::Matrix3Xi node_ijk_;             ///< lattice coordinates of each active node
+  std::vector<std::array<int, 6>> neighbours_;  ///< −x, +x, −y, +y, −z, +z active indices (−1 absent)
+  Eigen::Matrix3Xd rest_nodes_mm_;
+  Eigen::MatrixXd node_weights_;          ///< B×K blend weights
+  Eigen::Matrix3Xd mid_vectors_mm_;       ///< v per node (empty: no incompressibility)
+  Eigen::VectorXd thin_directions_;       ///< k per node, in [1, 2]
+  std::vector<Eigen::Isometry3d> motions_;
+  std::vector<DualQuaternion> transforms_;
+  Eigen::Matrix3Xd blended_mm_;           ///< Φ(x) per node
+  Eigen::VectorXd blend_volume_changes_;
+  Eigen::Matrix3Xd nodes_mm_;             ///< y per node
+  Eigen::VectorXd rest_clearance_mm_;     ///< min(s at rest, 0) per node (empty: no bones recorded)
+  int slid_nodes_ = 0;
+};
+
+}  // namespace rbfmuscle

@@ -1,0 +1,128 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dynamics/volume_balance.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace rbfmuscle {
+
+std::string toString(BalanceStop stop) {
+  switch (stop) {
+    case BalanceStop::kWithinTolerance: return "within_tolerance";
+    case BalanceStop::kIterationCap: return "iteration_cap";
+    case BalanceStop::kCorrectionBound: return "correction_bound";
+    case BalanceStop::kDisabled: return "disabled";
+  }
+  return "unknown";
+}
+
+namespace {
+
+/// f and g = Σ cₖ φₖ at every point, over its list.
+void sumValues(const DeformedField& field, const Eigen::VectorXd& c, const Eigen::Matrix3Xd& points,
+               const NeighbourLists& lists, Eigen::VectorXd& values, Eigen::VectorXd& corrections) {
+  const std::vector<DeformedKernel>& kernels = field.getKernels();
+  const double cutoff = field.getCutoffExponent();
+  values.resize(points.cols());
+  corrections.resize(points.cols());
+  for (Eigen::Index j = 0; j < points.cols(); ++j) {
+    const Eigen::Vector3d p = points.col(j);
+    const int* list = lists.begin(static_cast<int>(j));
+    double f = 0.0, g = 0.0;
+    for (int i = 0, n = lists.count(static_cast<int>(j)); i < n; ++i) {
+      const DeformedKernel& k = kernels[static_cast<size_t>(list[i])];
+      const Eigen::Vector3d d = p - k.centre_mm;
+      const double q = d.dot(k.applyMetric(d));
+      if (q > cutoff) continue;
+      const double phi = std::exp(-q);
+      f += k.weight * phi;
+      g += c[list[i]] * phi;
+    }
+    values[j] = field.getOffset() + f;
+    corrections[j] = g;
+  }
+}
+
+}  // namespace
+
+VolumeBalance::VolumeBalance(const Eigen::VectorXd& rest_weights, const std::vector<bool>& free_mask,
+                             double cell_volume_mm3, double cell_mm, const BalanceSettings& settings)
+    : rest_weights_(rest_weights), cell_volume_mm3_(cell_volume_mm3), settings_(settings) {
+  if (static_cast<Eigen::Index>(free_mask.size()) != rest_weights.size())
+    throw std::invalid_argument("VolumeBalance: free mask and weights differ in size");
+  if (!(cell_volume_mm3 > 0.0) || !(cell_mm > 0.0)) throw std::invalid_argument("VolumeBalance: cell must be > 0");
+  if (!(settings.tolerance > 0.0) || settings.max_iterations < 1 || !(settings.max_correction > 0.0))
+    throw std::invalid_argument("VolumeBalance: tolerance, max_iterations and max_correction must be > 0");
+  width_ = settings.step_width > 0.0 ? settings.step_width : 0.5 * cell_mm;
+  correction_weights_ = Eigen::VectorXd::Zero(rest_weights.size());
+  for (Eigen::Index k = 0; k < rest_weights.size(); ++k)
+    if (free_mask[static_cast<size_t>(k)]) correction_weights_[k] = std::abs(rest_weights[k]);
+}
+
+double VolumeBalance::sum(double delta, const Eigen::VectorXd& volume_changes, const Eigen::VectorXd& clearance_mm,
+                          double* derivative) const {
+  double volume = 0.0, slope = 0.0;
+  for (Eigen::Index j = 0; j < values_.size(); ++j) {
+    const double f = values_[j] + delta * corrections_[j];
+    const double w = cell_volume_mm3_ * volume_changes[j];
+    if (f < clearance_mm[j]) {
+      const double t = std::tanh(f / width_);
+      volume += w * 0.5 * (1.0 + t);
+      slope += w * 0.5 * (1.0 - t * t) * corrections_[j] / width_;
+    } else {
+      volume += w * 0.5 * (1.0 + std::tanh(clearance_mm[j] / width_));
+    }
+  }
+  if (derivative) *derivative = slope;
+  return volume;
+}
+
+void VolumeBalance::setRest(const DeformedField& rest_field, const Eigen::Matrix3Xd& points_mm,
+                            const NeighbourLists& lists, const Eigen::VectorXd& clearance_mm) {
+  if (clearance_mm.size() != points_mm.cols()) throw std::invalid_argument("VolumeBalance::setRest: sizes differ");
+  sumValues(rest_field, correction_weights_, points_mm, lists, values_, corrections_);
+  rest_volume_mm3_ = sum(0.0, Eigen::VectorXd::Ones(points_mm.cols()), clearance_mm, nullptr);
+  if (!(rest_volume_mm3_ > 0.0)) throw std::invalid_argument("VolumeBalance: the rest volume is not positive");
+}
+
+BalanceReport VolumeBalance::balance(DeformedField& field, const Eigen::Matrix3Xd& points_mm,
+                                    const NeighbourLists& lists, const Eigen::VectorXd& volume_changes,
+                                    const Eigen::VectorXd& clearance_mm) {
+  if (volume_changes.size() != points_mm.cols() || clearance_mm.size() != points_mm.cols())
+    throw std::invalid_argument("VolumeBalance::balance: sizes differ");
+  sumValues(field, correction_weights_, points_mm, lists, values_, corrections_);
+  BalanceReport report;
+  double slope = 0.0;
+  double volume = sum(0.0, volume_changes, clearance_mm, &slope);
+  report.ratio_before = volume / rest_volume_mm3_;
+  double delta = 0.0;
+  report.stop = settings_.enabled ? BalanceStop::kIterationCap : BalanceStop::kDisabled;
+  if (settings_.enabled) {
+    double lo = -settings_.max_correction, hi = settings_.max_correction;
+    for (int it = 0; it < settings_.max_iterations; ++it) {
+      const double error = volume / rest_volume_mm3_ - 1.0;
+      if (std::abs(error) <= settings_.tolerance) {
+        report.stop = BalanceStop::kWithinTolerance;
+        break;
+      }
+      (error < 0.0 ? lo : hi) = delta;
+      if ((error < 0.0 && delta >= settings_.max_correction) || (error > 0.0 && delta <= -settings_.max_correction)) {
+        report.stop = BalanceStop::kCorrectionBound;
+        break;
+      }
+      double next = slope > 0.0 ? delta - (volume - rest_volume_mm3_) / slope : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);  // bisection when Newton leaves the bracket
+      delta = next;
+      volume = sum(delta, volume_changes, clearance_mm, &slope);
+      ++report.iterations;
+    }
+    field.setWeights(rest_weights_ + delta * correction_weights_);
+  }
+  report.correction = delta;
+  report.volume_mm3 = volume;
+  report.ratio = volume / rest_volume_mm3_;
+  return report;
+}
+
+}  // namespace rbfmuscle

@@ -1,0 +1,72 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "pipeline/fibre_stage.h"
+
+#include "fibres/fibre_projection.h"
+
+#include <algorithm>
+
+namespace rbfmuscle {
+
+FibreStage::FibreStage(std::shared_ptr<TissueLattice> lattice, RestFibres rest, const DeformedField& rest_field,
+                       const ProjectionSettings& projection)
+    : lattice_(std::move(lattice)), rest_(std::move(rest)), projection_(projection) {
+  checkProjectionSettings(projection);
+  const int per = rest_.segments + 1;
+  std::vector<int> tied(static_cast<size_t>(rest_.points_mm.cols()), -1);
+  for (int i = 0; i < rest_.count; ++i) {
+    tied[static_cast<size_t>(i * per)] = 0;
+    tied[static_cast<size_t>(i * per + rest_.segments)] = 1;
+  }
+  binding_ = lattice_->bind(rest_.points_mm, tied);
+  lists_ = findMaterialNeighbours(rest_field, rest_.points_mm);
+  calcFibreLengths(rest_.points_mm, rest_.segments, rest_.lengths_mm);
+  rest_mean_mm_ = rest_.lengths_mm.mean();
+  lengths_mm_ = rest_.lengths_mm;
+}
+
+void FibreStage::run(MuscleState& state, const FrameInput&) {
+  Eigen::Matrix3Xd& points = state.fibre_points_mm;
+  lattice_->carry(binding_, points);
+  const int per = rest_.segments + 1, segments = rest_.segments;
+  values_.resize(points.cols());
+  int projected = 0;
+  double end_offset = 0.0;
+  // 1. Monotone ascent of min(f, s) for every point below the margin; ends move at most end_max_move_mm.
+  for (Eigen::Index c = 0; c < points.cols(); ++c) {
+    const int j = static_cast<int>(c % per);
+    const bool end = j == 0 || j == segments;
+    const MuscleShape shape(state, lists_.begin(static_cast<int>(c)), lists_.count(static_cast<int>(c)));
+    Eigen::Vector3d p = points.col(c);
+    const ProjectionResult r = end ? projectInside(shape, projection_, p, projection_.end_max_move_mm)
+                                   : projectInside(shape, projection_, p);
+    if (r.steps > 0) {
+      if (end) end_offset = std::max(end_offset, (p - points.col(c)).norm());
+      points.col(c) = p;
+      ++projected;
+    }
+    values_[c] = r.value;
+  }
+  // 2. Interior points still outside: placed from the nearest inside points of their fibre.
+  for (Eigen::Index first = 0; first < points.cols(); first += per)
+    for (int j = 1; j < segments; ++j) {
+      if (values_[first + j] > 0) continue;
+      int a = j - 1, b = j + 1;
+      while (a >= 0 && !(values_[first + a] > 0)) --a;
+      while (b <= segments && !(values_[first + b] > 0)) ++b;
+      if (a < 0 || b > segments) continue;
+      const int c = static_cast<int>(first + j);
+      const MuscleShape shape(state, lists_.begin(c), lists_.count(c));
+      // The neighbours were found inside by their own kernel lists; this point's list must agree.
+      if (!(shape.calcValue(points.col(first + a)) > 0.0) || !(shape.calcValue(points.col(first + b)) > 0.0)) continue;
+      Eigen::Vector3d p = points.col(c);
+      values_[c] = placeBetweenInsideNeighbours(shape, projection_, points.col(first + a), points.col(first + b),
+                                                static_cast<double>(j - a) / (b - a), p);
+      points.col(c) = p;
+    }
+  calcFibreLengths(points, segments, lengths_mm_);
+  const double mean = lengths_mm_.mean();
+  report_ = Report{mean, lengths_mm_.minCoeff(), lengths_mm_.maxCoeff(), mean / rest_mean_mm_,
+                   static_cast<double>(projected), static_cast<double>((values_.array() <= 0.0).count()), end_offset};
+}
+
+}  // namespace rbfmuscle

@@ -1,0 +1,60 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// @file
+/// Stage 5: the fibres carried with the tissue and kept inside the muscle.
+#include "dynamics/tissue_lattice.h"
+#include "fibres/fibre_generator.h"
+#include "pipeline/frame_stage.h"
+#include "rbf/neighbour_lists.h"
+
+#include <memory>
+
+namespace rbfmuscle {
+
+/// Carries the rest fibres by the tissue map (their ends rigid with the origin and
+/// insertion bones), then pushes every point below the margin back inside the muscle
+/// min(f, s) by a monotone ascent (fibre_projection.h): where the muscle lies on a bone, a
+/// fibre point the map carried into the bone comes out along the bone's surface, so the
+/// fibres slide over the bone rather than follow the map into it. Reports the lengths.
+class FibreStage final : public FrameStage {
+ public:
+  /// @param rest the rest fibres (M, mm)  @param rest_field the rest field (point lists)
+  FibreStage(std::shared_ptr<TissueLattice> lattice, RestFibres rest, const DeformedField& rest_field,
+             const ProjectionSettings& projection);
+
+  /// What a frame's fibres did.
+  struct Report {
+    double mean_mm = kNaN, min_mm = kNaN, max_mm = kNaN, ratio = kNaN;
+    double projected = kNaN, outside = kNaN, end_offset_max_mm = kNaN;
+  };
+  static constexpr ReportEntry<Report> kReport[] = {
+      {"fibre_length_mean_mm", "mm", "mean fibre length", &Report::mean_mm},
+      {"fibre_length_min_mm", "mm", "shortest fibre", &Report::min_mm},
+      {"fibre_length_max_mm", "mm", "longest fibre", &Report::max_mm},
+      {"fibre_length_ratio", "1", "mean fibre length / rest mean", &Report::ratio},
+      {"fibre_points_projected", "1", "fibre points pushed back inside the muscle this frame", &Report::projected},
+      {"fibre_points_outside", "1", "fibre points still outside the muscle (min(f, s) ≤ 0) after the push",
+       &Report::outside},
+      {"fibre_end_offset_max_mm", "mm", "largest move of a fibre end off its place on its bone",
+       &Report::end_offset_max_mm},
+  };
+
+  void run(MuscleState& state, const FrameInput& input) override;
+  void appendReport(std::vector<double>& values) const override { appendTable(kReport, report_, values); }
+  /// Length of each fibre in the last run (rest lengths before the first) (mm).
+  const Eigen::VectorXd& getLengths() const { return lengths_mm_; }
+  /// The rest fibres.
+  const RestFibres& getRest() const { return rest_; }
+
+ private:
+  std::shared_ptr<TissueLattice> lattice_;
+  RestFibres rest_;
+  ProjectionSettings projection_;
+  LatticeBinding binding_;
+  NeighbourLists lists_;
+  double rest_mean_mm_ = 0.0;
+  Eigen::VectorXd values_, lengths_mm_;
+  Report report_;
+};
+
+}  // namespace rbfmuscle

@@ -1,0 +1,165 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "pipeline/muscle_pipeline.h"
+
+#include "dynamics/quadrature.h"
+#include "geometry/iso_surface.h"
+#include "geometry/mesh_distance.h"
+#include "pipeline/contact_stage.h"
+#include "pipeline/fibre_stage.h"
+#include "pipeline/prediction_stage.h"
+#include "pipeline/volume_stage.h"
+#include "rbf/neighbour_lists.h"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace rbfmuscle {
+
+MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const PipelineSettings& settings) {
+  const GaussianField& fit = definition.rest_field;
+  state_ = std::make_unique<MuscleState>(fit, settings.cutoff);
+  const DeformedField rest = state_->field;
+  std::vector<bool> free_mask(static_cast<size_t>(fit.getNumCentres()));
+  for (int k = 0; k < fit.getNumCentres(); ++k) free_mask[static_cast<size_t>(k)] = !definition.attachments.isAttached(k);
+
+  QuadratureSettings quadrature_settings;
+  quadrature_settings.target_count = settings.quadrature_points;
+  const Quadrature quadrature = makeQuadrature(fit, quadrature_settings);
+  state_->quadrature_mm = quadrature.points_mm;
+  state_->volume_changes = Eigen::VectorXd::Ones(quadrature.points_mm.cols());
+
+  // Contacts at rest: the rest clearance enters the rest volume, the rest surface and the
+  // tissue map's reference for sliding.
+  std::unique_ptr<ContactStage> contacts;
+  state_->clearance_mm = Eigen::VectorXd::Constant(quadrature.points_mm.cols(), std::numeric_limits<double>::infinity());
+  if (!definition.bones.empty()) {
+    Eigen::AlignedBox3d reach = quadrature.box_mm;
+    reach.min().array() -= quadrature.cell_mm;
+    reach.max().array() += quadrature.cell_mm;
+    contacts = std::make_unique<ContactStage>(BoneClearance(definition.bones), reach);
+    FrameInput rest_input;
+    rest_input.X_MB = definition.rest_X_MB;
+    rest_input.bone_motion_M.assign(2, Eigen::Isometry3d::Identity());
+    contacts->run(*state_, rest_input);
+    for (Eigen::Index j = 0; j < quadrature.points_mm.cols(); ++j)
+      state_->clearance_mm[j] = state_->bones->calcValue(quadrature.points_mm.col(j));
+  }
+
+  // Rest fibres and surface, then a lattice covering everything the map carries.
+  RestFibres fibres;
+  if (settings.fibres > 0) {
+    FibreSettings fibre_settings;
+    fibre_settings.count = settings.fibres;
+    fibre_settings.segments = settings.fibre_segments;
+    fibres = generateFibres(fit, definition.origin_area_M, definition.insertion_area_M, fibre_settings);
+  }
+  const MuscleShape rest_shape(*state_);
+  TriangleMesh rest_surface = extractIsoSurface(
+      [&](const Eigen::Matrix3Xd& points, Eigen::VectorXd& values) {
+        values.resize(points.cols());
+        for (Eigen::Index j = 0; j < points.cols(); ++j) values[j] = rest_shape.calcValue(points.col(j));
+      },
+      quadrature.box_mm, settings.surface_cell_mm);
+  const Eigen::Index n = fit.getNumCentres(), m = quadrature.points_mm.cols();
+  Eigen::Matrix3Xd cover(3, n + m + fibres.points_mm.cols() + rest_surface.vertices_mm.cols());
+  cover << fit.getCentres(), quadrature.points_mm, fibres.points_mm, rest_surface.vertices_mm;
+  const MeshDistance muscle_surface(definition.rest_mesh_M);
+  lattice_ = std::make_shared<TissueLattice>(fit.getCentres(), definition.attachments, quadrature.box_mm.min(),
+                                             quadrature.cell_mm, cover, &muscle_surface, settings.lattice);
+  if (state_->bones) lattice_->setRestClearance(*state_->bones);
+
+  NeighbourLists quadrature_lists = findMaterialNeighbours(rest, quadrature.points_mm);
+  stages_.resize(kSlots);
+  stages_[kPrediction] = std::make_unique<PredictionStage>(lattice_, fit.getCentres(), definition.attachments,
+                                                           quadrature.points_mm, fit.getWeights());
+  stages_[kDescent] = std::make_unique<DescentStage>(rest, quadrature.points_mm, quadrature.weights_mm3, free_mask,
+                                                     settings.descent);
+  stages_[kContacts] = std::move(contacts);
+  auto volume = std::make_unique<VolumeStage>(*state_, std::move(quadrature_lists), free_mask,
+                                              quadrature.weights_mm3[0], quadrature.cell_mm, settings.volume);
+  rest_volume_mm3_ = volume->getRestVolume();
+  stages_[kVolume] = std::move(volume);
+  if (settings.fibres > 0) {
+    auto fibre_stage = std::make_unique<FibreStage>(lattice_, std::move(fibres), rest, ProjectionSettings{});
+    fibres_ = fibre_stage.get();
+    state_->fibre_points_mm = fibres_->getRest().points_mm;
+    stages_[kFibres] = std::move(fibre_stage);
+  }
+  auto surface = std::make_unique<SurfaceStage>(lattice_, std::move(rest_surface), rest, settings.surface);
+  surface_ = surface.get();
+  state_->surface_M = surface_->getRestSurface();
+  stages_[kSurface] = std::move(surface);
+  stage_ms_.assign(kSlots, std::numeric_limits<double>::quiet_NaN());
+}
+
+const char* MusclePipeline::getSlotName(int slot) {
+  static const char* const names[kSlots] = {"contacts", "prediction", "descent", "volume", "fibres", "surface"};
+  return names[slot];
+}
+
+namespace {
+
+/// Number of figures each slot's table holds, and the tables themselves.
+std::vector<ReportField> describeSlot(int slot) {
+  switch (slot) {
+    case MusclePipeline::kPrediction: return describeTable(PredictionStage::kReport);
+    case MusclePipeline::kDescent: return describeTable(DescentStage::kReport);
+    case MusclePipeline::kContacts: return describeTable(ContactStage::kReport);
+    case MusclePipeline::kVolume: return describeTable(VolumeStage::kReport);
+    case MusclePipeline::kFibres: return describeTable(FibreStage::kReport);
+    case MusclePipeline::kSurface: return describeTable(SurfaceStage::kReport);
+  }
+  return {};
+}
+
+}  // namespace
+
+std::vector<ReportField> MusclePipeline::describeReports() {
+  std::vector<ReportField> fields;
+  for (int slot = 0; slot < kSlots; ++slot) {
+    const std::vector<ReportField> table = describeSlot(slot);
+    fields.insert(fields.end(), table.begin(), table.end());
+  }
+  for (int slot = 0; slot < kSlots; ++slot)
+    fields.push_back({std::string(getSlotName(slot)) + "_ms", "ms",
+                      std::string("wall time of the ") + getSlotName(slot) + " stage this frame (NaN when it did not run)"});
+  fields.push_back({"update_ms", "ms", "wall time of the muscle's frame"});
+  return fields;
+}
+
+void MusclePipeline::appendReports(std::vector<double>& values) const {
+  for (int slot = 0; slot < kSlots; ++slot) {
+    if (stages_[static_cast<size_t>(slot)] && !std::isnan(stage_ms_[static_cast<size_t>(slot)]))
+      stages_[static_cast<size_t>(slot)]->appendReport(values);
+    else
+      values.insert(values.end(), describeSlot(slot).size(), std::numeric_limits<double>::quiet_NaN());
+  }
+  values.insert(values.end(), stage_ms_.begin(), stage_ms_.end());
+  values.push_back(frame_ms_);
+}
+
+const Eigen::VectorXd& MusclePipeline::getFibreLengths() const {
+  static const Eigen::VectorXd none;
+  return fibres_ ? fibres_->getLengths() : none;
+}
+
+void MusclePipeline::run(const FrameInput& input) {
+  using Clock = std::chrono::steady_clock;
+  const Clock::time_point start = Clock::now();
+  for (size_t i = 0; i < stages_.size(); ++i) {
+    stage_ms_[i] = std::numeric_limits<double>::quiet_NaN();
+    if (!stages_[i] || !stages_[i]->isNeeded(input)) continue;
+    const Clock::time_point t = Clock::now();
+    stages_[i]->run(*state_, input);
+    stage_ms_[i] = std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+  }
+  frame_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+const RestFibres* MusclePipeline::getRestFibres() const { return fibres_ ? &fibres_->getRest() : nullptr; }
+
+const TriangleMesh& MusclePipeline::getRestSurface() const { return surface_->getRestSurface(); }
+
+}  // namespace rbfmuscle

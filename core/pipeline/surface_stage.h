@@ -1,0 +1,57 @@
+// SPDX-License-Identifier: Apache-2.0
+#pragma once
+/// @file
+/// Stage 6 (on demand): the muscle's surface, tracked from rest.
+#include "dynamics/tissue_lattice.h"
+#include "geometry/triangle_mesh.h"
+#include "pipeline/frame_stage.h"
+#include "rbf/neighbour_lists.h"
+
+#include <memory>
+
+namespace rbfmuscle {
+
+/// Settings of the tracked surface.
+struct SurfaceSettings {
+  int newton_steps = 10;         ///< projection steps per vertex at most, ≥ 1
+  double tolerance = 1e-3;       ///< stop a vertex when |min(f, s)| ≤ this (field unit ≈ mm)
+  double max_step_mm = 2.0;      ///< longest projection step (mm), > 0
+};
+
+/// The rest surface's vertices carried by the tissue map, then projected onto min(f, s) = 0
+/// along the gradient (Newton steps): the surface for pictures and for checking contacts,
+/// with no grid evaluated per frame. Runs only when a frame asks for it.
+class SurfaceStage final : public FrameStage {
+ public:
+  /// @param rest_surface_M the rest surface (M, mm), e.g. extracted once from the rest field
+  SurfaceStage(std::shared_ptr<TissueLattice> lattice, TriangleMesh rest_surface_M, const DeformedField& rest_field,
+               const SurfaceSettings& settings);
+
+  /// What a frame's surface tracking did.
+  struct Report {
+    double residual_max = kNaN;       ///< largest |min(f, s)| after projection
+    double bone_depth_max_mm = kNaN;  ///< deepest vertex inside a bone, sampled (mm)
+  };
+  static constexpr ReportEntry<Report> kReport[] = {
+      {"surface_residual_max", "1", "largest |min(f, s)| at a tracked surface vertex after its projection",
+       &Report::residual_max},
+      {"surface_bone_depth_max_mm", "mm", "deepest tracked surface vertex inside a bone (its sampled distance)",
+       &Report::bone_depth_max_mm},
+  };
+
+  bool isNeeded(const FrameInput& input) const override { return input.want_surface; }
+  void run(MuscleState& state, const FrameInput& input) override;
+  void appendReport(std::vector<double>& values) const override { appendTable(kReport, report_, values); }
+  /// The rest surface.
+  const TriangleMesh& getRestSurface() const { return rest_; }
+
+ private:
+  std::shared_ptr<TissueLattice> lattice_;
+  TriangleMesh rest_;
+  SurfaceSettings settings_;
+  LatticeBinding binding_;
+  NeighbourLists lists_;
+  Report report_;
+};
+
+}  // namespace rbfmuscle

@@ -1,0 +1,135 @@
+// SPDX-License-Identifier: Apache-2.0
+// TissueLattice: rigid motions stay rigid, frames are the map's gradient, incompressibility
+// thins a stretched rod and keeps its volume, and tissue slides out of an obstacle.
+#include "dynamics/tissue_lattice.h"
+#include "dynamics_test_shapes.h"
+#include "geometry/mesh_distance.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+namespace rbfmuscle {
+namespace {
+
+/// A closed box mesh [lo, hi] (12 triangles, outward).
+TriangleMesh makeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TriangleMesh mesh;
+  mesh.vertices_mm.resize(3, 8);
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices_mm.col(i) = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  mesh.triangles.resize(3, 12);
+  mesh.triangles << 0, 0, 4, 4, 0, 0, 2, 2, 0, 0, 1, 1,  //
+      2, 3, 5, 7, 1, 5, 6, 7, 4, 6, 3, 7,               //
+      3, 1, 7, 6, 5, 4, 7, 3, 6, 2, 7, 5;
+  return mesh;
+}
+
+struct Rod {
+  GaussianField field = test::makeRodField();
+  Attachments attachments = test::makeRodAttachments(field);
+  TriangleMesh mesh = makeBox(Eigen::Vector3d(-38, -8, -6), Eigen::Vector3d(38, 8, 6));
+};
+
+TissueLattice makeLattice(const Rod& rod, bool incompressible) {
+  LatticeSettings settings;
+  settings.incompressible = incompressible;
+  const MeshDistance surface(rod.mesh);
+  std::vector<Eigen::Vector3d> grid;  // every point a test binds lies in [−40, 40] × [−10, 10] × [−8, 8]
+  for (double x = -40; x <= 40; x += 2)
+    for (double y = -10; y <= 10; y += 2)
+      for (double z = -8; z <= 8; z += 2) grid.emplace_back(x, y, z);
+  Eigen::Matrix3Xd cover(3, static_cast<Eigen::Index>(grid.size()));
+  for (size_t i = 0; i < grid.size(); ++i) cover.col(static_cast<Eigen::Index>(i)) = grid[i];
+  return TissueLattice(rod.field.getCentres(), rod.attachments, Eigen::Vector3d::Zero(), 2.0, cover, &surface, settings);
+}
+
+TEST(TissueLattice, ACommonRigidMotionMovesEveryPointAndFrameRigidly) {
+  const Rod rod;
+  TissueLattice lattice = makeLattice(rod, true);
+  const Eigen::Isometry3d t = Eigen::Translation3d(12.0, -7.0, 30.0) * Eigen::AngleAxisd(1.1, Eigen::Vector3d(1, -2, 0.5).normalized());
+  lattice.update({t, t});
+  const LatticeBinding points = lattice.bind(rod.field.getCentres(), rod.attachments.bone_of_centre);
+  Eigen::Matrix3Xd moved;
+  std::vector<Eigen::Matrix3d> frames;
+  lattice.carry(points, moved, frames);
+  for (int k = 0; k < points.size(); ++k) {
+    EXPECT_LT((moved.col(k) - t * Eigen::Vector3d(rod.field.getCentres().col(k))).norm(), 1e-6) << "kernel " << k;
+    EXPECT_LT((frames[static_cast<size_t>(k)] - t.linear()).norm(), 1e-9) << "kernel " << k;
+  }
+  Eigen::VectorXd volume;
+  lattice.calcVolumeChanges(volume);
+  EXPECT_LT((volume.array() - 1.0).abs().maxCoeff(), 1e-9);
+}
+
+TEST(TissueLattice, FramesAreTheGradientOfTheCarriedMap) {
+  const Rod rod;
+  TissueLattice lattice = makeLattice(rod, true);
+  const Eigen::Isometry3d bend = Eigen::Translation3d(30, 0, 0) * Eigen::AngleAxisd(0.8, Eigen::Vector3d::UnitZ()) *
+                                 Eigen::Translation3d(-30, 0, 0);
+  lattice.update({Eigen::Isometry3d::Identity(), bend});
+  const Eigen::Vector3d p(3.3, 1.7, -0.9);
+  const double h = 1e-4;
+  Eigen::Matrix3Xd stencil(3, 7);
+  stencil.col(0) = p;
+  for (int i = 0; i < 3; ++i) {
+    stencil.col(1 + 2 * i) = p + h * Eigen::Vector3d::Unit(i);
+    stencil.col(2 + 2 * i) = p - h * Eigen::Vector3d::Unit(i);
+  }
+  Eigen::Matrix3Xd moved;
+  std::vector<Eigen::Matrix3d> frames;
+  lattice.carry(lattice.bind(stencil), moved, frames);
+  for (int i = 0; i < 3; ++i)
+    EXPECT_LT((frames[0].col(i) - (moved.col(1 + 2 * i) - moved.col(2 + 2 * i)) / (2 * h)).norm(), 1e-6) << "axis " << i;
+}
+
+TEST(TissueLattice, AStretchedRodThinsAcrossItsThicknessAndKeepsItsVolume) {
+  const Rod rod;
+  // Insertion bone pulled 20 mm along the rod: the blend stretches the middle.
+  const Eigen::Isometry3d pull(Eigen::Translation3d(20, 0, 0));
+  TissueLattice blend_only = makeLattice(rod, false), thinned = makeLattice(rod, true);
+  blend_only.update({Eigen::Isometry3d::Identity(), pull});
+  thinned.update({Eigen::Isometry3d::Identity(), pull});
+  Eigen::VectorXd j_blend, j_thinned;
+  blend_only.calcVolumeChanges(j_blend);
+  thinned.calcVolumeChanges(j_thinned);
+  const int middle = thinned.findNodeAt(Eigen::Vector3d(0, 0, 0));
+  ASSERT_GE(middle, 0);
+  EXPECT_GT(j_blend[middle], 1.1) << "the blend stretches the middle";
+  EXPECT_NEAR(j_thinned[middle], 1.0, 0.05) << "thinned, the tissue keeps its volume";
+  // The thinned rod is thinner across y or z at the middle, not shorter along x.
+  const int side = thinned.findNodeAt(Eigen::Vector3d(0, 4, 0));
+  ASSERT_GE(side, 0);
+  EXPECT_LT(std::abs(thinned.getNodes()(1, side) - thinned.getNodes()(1, middle)),
+            std::abs(blend_only.getNodes()(1, side) - blend_only.getNodes()(1, middle)) + 1e-9);
+}
+
+/// An obstacle: the half-space z < −3 as a signed distance (positive outside).
+class Floor final : public ImplicitField {
+ public:
+  double calcValue(const Eigen::Vector3d& p) const override { return p.z() + 3.0; }
+  Eigen::Vector3d calcGradient(const Eigen::Vector3d&) const override { return Eigen::Vector3d::UnitZ(); }
+};
+
+TEST(TissueLattice, TissueCarriedIntoAnObstacleSlidesOntoItsSurface) {
+  const Rod rod;
+  TissueLattice lattice = makeLattice(rod, false);
+  const Floor floor;
+  lattice.setRestClearance(floor);
+  // Both bones sink 5 mm: the tissue would enter the floor; nodes that were outside stop on it.
+  const Eigen::Isometry3d sink(Eigen::Translation3d(0, 0, -5));
+  lattice.update({sink, sink}, &floor);
+  EXPECT_GT(lattice.countSlidNodes(), 0);
+  for (int n = 0; n < lattice.countNodes(); ++n) {
+    const double rest_clearance = std::min(floor.calcValue(lattice.getRestNode(n)), 0.0);
+    EXPECT_GE(floor.calcValue(lattice.getNodes().col(n)), rest_clearance - 1e-9) << "node " << n;
+  }
+}
+
+TEST(TissueLattice, PointsOutsideTheCoveredCellsAreRefused) {
+  const Rod rod;
+  const TissueLattice lattice = makeLattice(rod, false);
+  EXPECT_THROW(lattice.bind(Eigen::Matrix3Xd::Constant(3, 1, 500.0)), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rbfmuscle

@@ -1,0 +1,140 @@
+// SPDX-License-Identifier: Apache-2.0
+// MusclePipeline on a rod between two bones: rigid motions stay rigid, a frame depends on its
+// pose only, two runs agree bitwise, and the volume is kept through a bend.
+#include "pipeline/muscle_pipeline.h"
+
+#include "../dynamics/dynamics_test_shapes.h"
+#include "geometry/iso_surface.h"
+#include "geometry/mesh_measures.h"
+
+#include <Eigen/Geometry>
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+namespace rbfmuscle {
+namespace {
+
+/// A closed box mesh [lo, hi] (12 triangles, outward): the rod's rest mesh.
+TriangleMesh makeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TriangleMesh mesh;
+  mesh.vertices_mm.resize(3, 8);
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices_mm.col(i) = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  mesh.triangles.resize(3, 12);
+  mesh.triangles << 0, 0, 4, 4, 0, 0, 2, 2, 0, 0, 1, 1,  //
+      2, 3, 5, 7, 1, 5, 6, 7, 4, 6, 3, 7,               //
+      3, 1, 7, 6, 5, 4, 7, 3, 6, 2, 7, 5;
+  return mesh;
+}
+
+MuscleDefinition makeRod() {
+  MuscleDefinition rod;
+  rod.rest_field = test::makeRodField();
+  rod.rest_mesh_M = makeBox(Eigen::Vector3d(-36, -7, -4), Eigen::Vector3d(36, 7, 4.5));
+  rod.attachments = test::makeRodAttachments(rod.rest_field);
+  rod.origin_area_M = Eigen::Vector3d(-30, 0, 0);
+  rod.insertion_area_M = Eigen::Vector3d(30, 0, 0);
+  return rod;
+}
+
+PipelineSettings fewFibres() {
+  PipelineSettings settings;
+  settings.fibres = 6;
+  settings.fibre_segments = 8;
+  settings.quadrature_points = 3000;
+  return settings;
+}
+
+/// The insertion bone turned about the z axis through (20, 0, 0).
+FrameInput bend(double degrees) {
+  FrameInput input;
+  const double a = degrees * M_PI / 180.0;
+  input.bone_motion_M = {Eigen::Isometry3d::Identity(),
+                         Eigen::Isometry3d(Eigen::Translation3d(20, 0, 0) * Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()) *
+                                           Eigen::Translation3d(-20, 0, 0))};
+  return input;
+}
+
+std::vector<double> reports(const MusclePipeline& pipeline) {
+  std::vector<double> values;
+  pipeline.appendReports(values);
+  const std::vector<ReportField> fields = MusclePipeline::describeReports();
+  std::vector<double> kept;  // timings differ between runs; everything else must not
+  for (size_t i = 0; i < fields.size(); ++i)
+    if (fields[i].unit != "ms") kept.push_back(std::isnan(values[i]) ? -1e300 : values[i]);  // NaN ≠ NaN
+  return kept;
+}
+
+TEST(MusclePipeline, ReportsAsManyValuesAsItDescribes) {
+  MusclePipeline pipeline(makeRod(), fewFibres());
+  pipeline.run(bend(10));
+  std::vector<double> values;
+  pipeline.appendReports(values);
+  EXPECT_EQ(values.size(), MusclePipeline::describeReports().size());
+}
+
+TEST(MusclePipeline, ARigidMotionOfBothBonesMovesTheMuscleRigidly) {
+  const MuscleDefinition rod = makeRod();
+  MusclePipeline pipeline(rod, fewFibres());
+  const Eigen::Isometry3d t = Eigen::Translation3d(15, -40, 7) * Eigen::AngleAxisd(0.9, Eigen::Vector3d(1, 1, 0.3).normalized());
+  FrameInput input;
+  input.bone_motion_M = {t, t};
+  input.want_surface = true;
+  pipeline.run(input);
+  const MuscleState& state = pipeline.getState();
+  // Kernels, fibres and the tracked surface moved by t to 1e-6 mm; the field equals the rest field moved.
+  for (int k = 0; k < rod.rest_field.getNumCentres(); ++k)
+    EXPECT_LT((state.field.getCentres().col(k) - t * Eigen::Vector3d(rod.rest_field.getCentres().col(k))).norm(), 1e-6);
+  const RestFibres& fibres = *pipeline.getRestFibres();
+  for (Eigen::Index j = 0; j < fibres.points_mm.cols(); ++j)
+    EXPECT_LT((state.fibre_points_mm.col(j) - t * Eigen::Vector3d(fibres.points_mm.col(j))).norm(), 1e-6) << "fibre point " << j;
+  DeformedField rest(rod.rest_field, fewFibres().cutoff);
+  const TriangleMesh& surface = pipeline.getRestSurface();
+  for (Eigen::Index v = 0; v < surface.vertices_mm.cols(); v += 7) {
+    const Eigen::Vector3d x = surface.vertices_mm.col(v);
+    EXPECT_NEAR(state.field.calcValue(t * x), rest.calcValue(x), 1e-9) << "vertex " << v;
+  }
+  EXPECT_NEAR(pipeline.getState().field.getWeights()[0], rod.rest_field.getWeights()[0], 1e-12);
+}
+
+TEST(MusclePipeline, AFrameDependsOnItsPoseOnlyAndTwoRunsAreBitwiseEqual) {
+  MusclePipeline stepped(makeRod(), fewFibres()), direct(makeRod(), fewFibres());
+  for (int degrees = 1; degrees <= 40; ++degrees) stepped.run(bend(degrees));
+  direct.run(bend(40));
+  EXPECT_EQ(reports(stepped), reports(direct));
+  EXPECT_EQ(stepped.getState().field.getCentres(), direct.getState().field.getCentres());
+  EXPECT_EQ(stepped.getState().fibre_points_mm, direct.getState().fibre_points_mm);
+}
+
+TEST(MusclePipeline, ABentRodKeepsItsVolumeInOnePieceWithItsFibresInside) {
+  MusclePipeline pipeline(makeRod(), fewFibres());
+  const double rest_volume = pipeline.getRestVolume();
+  for (int degrees : {20, 45, 70}) {
+    pipeline.run(bend(degrees));
+    std::vector<double> values;
+    pipeline.appendReports(values);
+    const std::vector<ReportField> fields = MusclePipeline::describeReports();
+    const auto value = [&](const std::string& name) {
+      for (size_t i = 0; i < fields.size(); ++i)
+        if (fields[i].name == name) return values[i];
+      return std::nan("");
+    };
+    EXPECT_NEAR(value("volume_ratio"), 1.0, 2e-3) << degrees << "°";
+    EXPECT_EQ(value("fibre_points_outside"), 0.0) << degrees << "°";
+    // Independent check: the extracted surface's volume and pieces.
+    const MuscleShape shape(pipeline.getState());
+    Eigen::AlignedBox3d box(Eigen::Vector3d(-60, -60, -20), Eigen::Vector3d(60, 60, 20));
+    const TriangleMesh surface = extractIsoSurface(
+        [&](const Eigen::Matrix3Xd& points, Eigen::VectorXd& out) {
+          out.resize(points.cols());
+          for (Eigen::Index j = 0; j < points.cols(); ++j) out[j] = shape.calcValue(points.col(j));
+        },
+        box, 0.75);
+    EXPECT_EQ(countComponents(surface), 1) << degrees << "°";
+    EXPECT_NEAR(calcVolume(surface) / rest_volume, 1.0, 0.03) << degrees << "°";
+  }
+}
+
+}  // namespace
+}  // namespace rbfmuscle
