@@ -77,9 +77,9 @@ def fmt(v):
     return " ".join(repr(float(c)) for c in v)
 
 
-def mesh_elements(mesh, xyz, rpy, indent):
+def mesh_elements(mesh, xyz, rpy, indent, kinds=("visual", "collision")):
     out = []
-    for kind in ("visual", "collision"):
+    for kind in kinds:
         out += [
             f"{indent}<{kind}>",
             f'{indent}  <origin xyz="{fmt(xyz)}" rpy="{fmt(rpy)}"/>',
@@ -123,12 +123,16 @@ def main():
         "     keep URDF tools happy and never clamp anything. -->",
         '<robot name="hip_r">',
         "",
-        "  <!-- Pelvis: its frame is the CT frame, so its meshes have identity origins.",
+        "  <!-- Pelvis: the subject's own bones; its frame is the CT frame, so its meshes have",
+        "       identity origins. The right ilium and the sacrum are what the right hip's",
+        "       muscles touch (collision); the left ilium is for pictures only.",
         "       Mass and inertia are generic (kinematics only). -->",
         '  <link name="pelvis">',
         '    <inertial><mass value="10.0"/><origin xyz="0 0 0"/>'
         '<inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial>',
-        *mesh_elements("pelvis_r_proxy.ply", [0, 0, 0], [0, 0, 0], "    "),
+        *mesh_elements("pelvis_iliac_r.ply", [0, 0, 0], [0, 0, 0], "    "),
+        *mesh_elements("pelvis_sacrum.ply", [0, 0, 0], [0, 0, 0], "    "),
+        *mesh_elements("pelvis_iliac_l.ply", [0, 0, 0], [0, 0, 0], "    ", kinds=("visual",)),
         "  </link>",
         "",
         "  <!-- Flexion about +Z (right) of P; the joint frame is P at the hip joint centre. -->",

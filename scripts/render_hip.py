@@ -99,7 +99,11 @@ def render_scene(run_dir, model, sto, angles, views, report, cell_mm, fibre_ever
     from mpl_toolkits.mplot3d.art3d import Line3DCollection, Poly3DCollection
 
     mesh_dir = os.path.join(model["directory"], "meshes")
-    pelvis = decimate(*bench_io.read_ply(os.path.join(mesh_dir, "pelvis_r_proxy.ply")), cell_mm)
+    # The subject's pelvis: right ilium and sacrum (the muscles' bones) and the left ilium.
+    pelvis_parts = [decimate(*bench_io.read_ply(os.path.join(mesh_dir, f"pelvis_{part}.ply")), cell_mm)
+                    for part in ("iliac_r", "sacrum", "iliac_l")]
+    offsets = np.cumsum([0] + [len(v) for v, _ in pelvis_parts[:-1]])
+    pelvis = (np.vstack([v for v, _ in pelvis_parts]), np.vstack([t + o for (_, t), o in zip(pelvis_parts, offsets)]))
     femur = decimate(*bench_io.read_ply(os.path.join(mesh_dir, "femur_r.ply")), cell_mm)
     flexion = sto.angle_deg("hip_flexion_r")
     adduction = sto.angle_deg("hip_adduction_r") if sto.has("hip_adduction_r") else 0 * flexion

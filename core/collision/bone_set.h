@@ -24,7 +24,7 @@ struct ProbeQueryStats {
 };
 
 /// A set of rigid, closed bone surfaces (mm) and signed-distance queries of probe points
-/// against them (issue 5, DESIGN.md "Bone contacts", STYLE.md point 11).
+/// against them.
 ///
 /// Built once per bone (addBone), in its body frame B: an FCL `BVHModel<OBBRSS>` (for the
 /// world bounding box and the broad phase) and a MeshDistance (AABB tree + angle-weighted

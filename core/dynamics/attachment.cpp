@@ -113,7 +113,7 @@ void addSupport(int bone, std::shared_ptr<const MeshDistance> surface_M, Attachm
 }
 
 Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen::Matrix3Xd& rest_centres_mm,
-                                 const Attachments& attachments, double length_mm) {
+                                 const Attachments& attachments, double length_mm, double power) {
   if (static_cast<Eigen::Index>(attachments.bone_of_centre.size()) != rest_centres_mm.cols()) {
     throw std::invalid_argument("calcBlendWeights: attachments cover " + std::to_string(attachments.bone_of_centre.size()) +
                                 " centres, " + std::to_string(rest_centres_mm.cols()) + " given");
@@ -123,6 +123,9 @@ Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen:
   }
   if (attachments.countAttached() == 0) {
     throw std::invalid_argument("calcBlendWeights: no centre is attached to a bone");
+  }
+  if (!(power > 0.0) || !std::isfinite(power)) {
+    throw std::invalid_argument("calcBlendWeights: power " + std::to_string(power) + ", expected > 0");
   }
   const int B = attachments.num_bones;
   const Eigen::Index M = points_mm.cols();
@@ -143,7 +146,7 @@ Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen:
                                                    attachments.supports_M[b]->calcUnsignedDistance(points_mm.col(j)));
     double sum = 0.0;
     for (int b = 0; b < B; ++b) {
-      const double w = std::isfinite(d(b)) ? 1.0 / (d(b) + length_mm) : 0.0;
+      const double w = std::isfinite(d(b)) ? (power == 1.0 ? 1.0 / (d(b) + length_mm) : std::pow(d(b) + length_mm, -power)) : 0.0;
       weights(b, j) = w;
       sum += w;
     }

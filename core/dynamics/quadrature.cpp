@@ -1,6 +1,5 @@
 #include "dynamics/quadrature.h"
 
-#include "rbf/curvature_cost.h"
 
 #include <algorithm>
 #include <cmath>
@@ -90,7 +89,6 @@ Quadrature makeQuadrature(const GaussianField& field, const QuadratureSettings& 
   for (Eigen::Index j = 0; j < nodes.cols(); ++j)
     if (f(j) > -settings.band_value) q.points_mm.col(c++) = nodes.col(j);
   q.weights_mm3 = Eigen::VectorXd::Constant(kept, h * h * h);
-  q.target_curvatures = CurvatureCost::calcTargetCurvatures(field, q.points_mm);
   return q;
 }
 

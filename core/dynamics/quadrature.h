@@ -20,11 +20,10 @@ struct QuadratureSettings {
   int coarse_cells = 48;    ///< cells per box side of the scan that finds the band's box, ≥ 4
 };
 
-/// Quadrature points with their weights and the rest curvature targets.
+/// Quadrature points with their weights.
 struct Quadrature {
   Eigen::Matrix3Xd points_mm;        ///< q (3×M, mm, frame M at rest)
   Eigen::VectorXd weights_mm3;       ///< w_q = h³ (M, mm³): the cell volume
-  Eigen::VectorXd target_curvatures; ///< κ₀ = κ(q) at rest (M, field unit / mm²)
   double cell_mm = 0.0;              ///< grid spacing h (mm)
   Eigen::AlignedBox3d box_mm;        ///< box of the grid nodes (mm)
 };

@@ -5,7 +5,7 @@
 /// and the point's offset from the mid-surface along it.
 ///
 /// Why: muscle is incompressible, but the bone blend that carries it is not (it lengthens a
-/// flexed gluteus maximus by about 40 % without thinning it). TissueMap thins the tissue by
+/// flexed gluteus maximus by about 40 % without thinning it). TissueLattice thins the tissue by
 /// the blend's own volume change J across this direction, about the mid-surface, so that
 /// neighbouring kernels move together as they thin and the muscle keeps one piece. Lowering
 /// the field everywhere (the weights, or the offset) instead moves the surface inward by the

@@ -72,7 +72,8 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
       for (int side = 0; side < 2; ++side)
         neighbours_[static_cast<size_t>(n)][static_cast<size_t>(2 * axis + side)] =
             findNode(active[static_cast<size_t>(n)] + (side ? 1 : -1) * Eigen::Vector3i::Unit(axis));
-  node_weights_ = calcBlendWeights(rest_nodes_mm_, rest_centres_mm, attachments, settings_.blend_length_mm);
+  node_weights_ = calcBlendWeights(rest_nodes_mm_, rest_centres_mm, attachments, settings_.blend_length_mm,
+                                   settings_.blend_power);
 
   if (settings_.incompressible && muscle_surface) {
     const ThicknessAxes axes = calcThicknessAxes(*muscle_surface, rest_nodes_mm_);
@@ -130,12 +131,7 @@ Eigen::Matrix3d TissueLattice::differentiate(const Eigen::Matrix3Xd& positions, 
   return d;
 }
 
-void TissueLattice::setRestClearance(const ImplicitField& bones) {
-  rest_clearance_mm_.resize(countNodes());
-  for (int n = 0; n < countNodes(); ++n) rest_clearance_mm_[n] = std::min(bones.calcValue(rest_nodes_mm_.col(n)), 0.0);
-}
-
-void TissueLattice::update(const std::vector<Eigen::Isometry3d>& bone_motion_M, const ImplicitField* bones) {
+void TissueLattice::update(const std::vector<Eigen::Isometry3d>& bone_motion_M) {
   if (static_cast<int>(bone_motion_M.size()) != num_bones_)
     throw std::invalid_argument("TissueLattice: " + std::to_string(bone_motion_M.size()) + " bone motions for " +
                                 std::to_string(num_bones_) + " bones");
@@ -162,16 +158,6 @@ void TissueLattice::update(const std::vector<Eigen::Isometry3d>& bone_motion_M, 
                                           settings_.max_thinning)
                              : settings_.max_thinning;  // a fold thickens as much as allowed
     nodes_mm_.col(n) -= (t - 1.0) * (d * mid_vectors_mm_.col(n));
-  }
-  slid_nodes_ = 0;
-  if (!bones || !settings_.slide_on_bones || rest_clearance_mm_.size() != k) return;
-  for (int n = 0; n < k; ++n) {
-    const FieldSample s = bones->calcSample(nodes_mm_.col(n));
-    const double depth = rest_clearance_mm_[n] - s.value;
-    const double g2 = s.gradient.squaredNorm();
-    if (!(depth > 0.0) || !(g2 > 0.0)) continue;
-    nodes_mm_.col(n) += depth * s.gradient / g2;
-    ++slid_nodes_;
   }
 }
 

@@ -5,7 +5,7 @@
 /// the bone blend and thinned to keep the tissue's volume, interpolated everywhere else.
 ///
 /// 1. Blend: node x moves to Φ(x), the dual-quaternion blend of the bone motions with the
-///    blend weights of x (attachment.h: inverse distances to each bone's attachment).
+///    blend weights of x (attachment.h: inverse squared distances to each bone's attachment).
 /// 2. Incompressibility: Φ stretches the tissue between bones turning apart without thinning
 ///    it (a flexed gluteus maximus grew by 40 %), and lowering the field to restore the volume
 ///    breaks thin parts first. So each node moves towards the muscle's rest mid-surface (or
@@ -19,16 +19,10 @@
 ///    the cell's eight nodes; a kernel's frame F is the interpolant's gradient. So kernels,
 ///    quadrature points and surfaces move by one and the same map, and the volume measured
 ///    over the carried lattice matches the field's.
-/// 4. Bones (optional): a node the map carries into a bone slides out onto its surface along
-///    the bone's distance gradient, so tissue lying on a bone slides along it instead of
-///    entering it, and a bone moving into the muscle displaces tissue instead of cutting it.
-///    A node that lay inside a bone at rest (the shell around the muscle) only may not go
-///    deeper than it was.
 /// Points tied to a bone (attached kernels, fibre ends) move rigidly with it instead.
 /// A common rigid motion of all bones moves every node, and so every point, rigidly.
 #include "dynamics/attachment.h"
 #include "dynamics/motion_prediction.h"
-#include "rbf/implicit_field.h"
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
@@ -50,10 +44,10 @@ struct LatticeBinding {
 /// Settings of TissueLattice.
 struct LatticeSettings {
   double blend_length_mm = 1.0;  ///< ℓ of the blend weights (mm), > 0
+  double blend_power = 2.0;      ///< p of the blend weights (attachment.h, calcBlendWeights), > 0
   bool incompressible = true;    ///< step 2 of the file comment (false: the blend alone)
   double max_thinning = 4.0;     ///< t is clamped to [1/max, max], ≥ 1
   int smoothing_passes = 3;      ///< Laplacian passes over the rest mid-surface vectors, ≥ 0
-  bool slide_on_bones = true;    ///< step 4 of the file comment (false: bones are ignored here)
 };
 
 /// The carrying map (file comment). Rest set-up is expensive; update() and carry() are cheap.
@@ -74,16 +68,9 @@ class TissueLattice {
   /// that bone instead. @throws std::invalid_argument if a point lies outside the covered cells.
   LatticeBinding bind(const Eigen::Matrix3Xd& rest_mm, const std::vector<int>& rigid_bone = {}) const;
 
-  /// Records each node's clearance from the bones at rest (`bones`: the signed distance to the
-  /// nearest bone in M, +∞ or at least a band where far), the reference of step 4.
-  void setRestClearance(const ImplicitField& bones);
-
-  /// Moves the nodes for the bone motions T_b (B, rest → now, in M); with `bones` (posed for
-  /// this frame, as in setRestClearance) nodes are slid out of them (file comment, step 4).
+  /// Moves the nodes for the bone motions T_b (B, rest → now, in M).
   /// @throws std::invalid_argument on a wrong count or a non-rigid, non-finite transform.
-  void update(const std::vector<Eigen::Isometry3d>& bone_motion_M, const ImplicitField* bones = nullptr);
-  /// Nodes slid out of a bone in the last update.
-  int countSlidNodes() const { return slid_nodes_; }
+  void update(const std::vector<Eigen::Isometry3d>& bone_motion_M);
 
   /// Current positions (3×P) of bound points.
   void carry(const LatticeBinding& points, Eigen::Matrix3Xd& out) const;
@@ -131,8 +118,6 @@ class TissueLattice {
   Eigen::Matrix3Xd blended_mm_;           ///< Φ(x) per node
   Eigen::VectorXd blend_volume_changes_;
   Eigen::Matrix3Xd nodes_mm_;             ///< y per node
-  Eigen::VectorXd rest_clearance_mm_;     ///< min(s at rest, 0) per node (empty: no bones recorded)
-  int slid_nodes_ = 0;
 };
 
 }  // namespace rbfmuscle

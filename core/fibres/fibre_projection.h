@@ -39,10 +39,9 @@ struct ProjectionSettings {
   /// maximum of f along ∇f, ≥ 0 (the shortest step tried is max_step_mm / 2^max_halvings).
   int max_halvings = 10;
   /// Fibre ends are rigid with their bone; one that falls outside is still pushed in, but
-  /// moves at most this far (mm, ≥ 0) from its bone-rigid place, within issue 6's 0.5 mm
-  /// tolerance on end points after rounding (FibreTracker passes it as projectInside's
-  /// max_move_mm). It was 0.45 mm; with the volume kept through the free centres one gluteus
-  /// origin end at 80° in 10° frames needed more (it ended at f = −0.015 with 0.45).
+  /// moves at most this far (mm, ≥ 0) from its bone-rigid place, within the 0.5 mm
+  /// tolerance on end points after rounding (the fibre stage passes it as projectInside's
+  /// max_move_mm).
   double end_max_move_mm = 0.499;
 };
 

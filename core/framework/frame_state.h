@@ -6,6 +6,11 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <functional>
+#include <map>
+#include <memory>
+#include <mutex>
+
 #include <string>
 #include <vector>
 
@@ -31,7 +36,23 @@ class InitContext {
   /// The skeleton at its rest pose (all coordinates 0) while components initialize.
   const Skeleton& getSkeleton() const { return *skeleton_; }
 
+  /// An object the components of a run share (a bone's distance grid, built once for every
+  /// muscle that touches the bone), made by `make` for the first component that asks for
+  /// `key` and handed to the others. Holders keep it alive; thread-safe.
+  template <class T>
+  std::shared_ptr<T> findOrMakeShared(const std::string& key, const std::function<std::shared_ptr<T>()>& make) const {
+    std::lock_guard<std::mutex> lock(shared_->mutex);
+    std::shared_ptr<void>& slot = shared_->objects[key];
+    if (!slot) slot = make();
+    return std::static_pointer_cast<T>(slot);
+  }
+
  private:
+  struct Shared {
+    std::mutex mutex;
+    std::map<std::string, std::shared_ptr<void>> objects;
+  };
+  std::shared_ptr<Shared> shared_ = std::make_shared<Shared>();
   std::string model_directory_;
   std::string output_directory_;
   const Skeleton* skeleton_;
@@ -44,10 +65,12 @@ class FrameState {
   /// @param q_rad coordinates (rad) in skeleton order
   /// @param X_GB pose of each body B in ground G (translation in mm), by body index
   /// @param body_moved per body: 1 when X_GB differs from the previous frame (1 at frame 0)
+  /// @param wants_geometry whether the frame's geometry is written (--frames-mesh)
   FrameState(int frame_index, double time_s, const Eigen::VectorXd& q_rad,
-             const std::vector<Eigen::Isometry3d>& X_GB, const std::vector<char>& body_moved)
+             const std::vector<Eigen::Isometry3d>& X_GB, const std::vector<char>& body_moved,
+             bool wants_geometry = false)
       : frame_index_(frame_index), time_s_(time_s), q_rad_(&q_rad), X_GB_(&X_GB),
-        body_moved_(&body_moved) {}
+        body_moved_(&body_moved), wants_geometry_(wants_geometry) {}
 
   /// 0-based frame number in the motion.
   int getFrameIndex() const { return frame_index_; }
@@ -64,6 +87,9 @@ class FrameState {
   /// True when the body moved since the previous frame (always true at frame 0);
   /// lets a component skip work when nothing it depends on moved.
   bool hasBodyMoved(int body_index) const { return (*body_moved_)[body_index] != 0; }
+  /// True when appendFrameGeometry will be called for this frame: a component may prepare
+  /// its geometry (and the figures that come with it) only then.
+  bool wantsGeometry() const { return wants_geometry_; }
 
  private:
   int frame_index_;
@@ -71,6 +97,7 @@ class FrameState {
   const Eigen::VectorXd* q_rad_;
   const std::vector<Eigen::Isometry3d>* X_GB_;
   const std::vector<char>* body_moved_;
+  bool wants_geometry_;
 };
 
 }  // namespace rbfmuscle

@@ -28,7 +28,7 @@ struct StageTiming {
 };
 
 /// Median and maximum over the frames of a component's reported time (an output whose name
-/// ends in `_ms`, e.g. `iliacus_r.collision_ms`), over the frames where it is a number.
+/// ends in `_ms`, e.g. `iliacus_r.prediction_ms`), over the frames where it is a number.
 struct ReportedTiming {
   std::string output;  ///< COMPONENT.OUTPUT
   double median_ms = 0;

@@ -31,7 +31,7 @@ struct SignedClosestPoint : ClosestPoint {
 /// than the best distance so far: O(log T) typically.
 ///
 /// Signed distance s(p) = ±‖p − q‖ with q the closest point: negative inside, positive
-/// outside (s(x) in DESIGN.md). The sign is that of (p − q) · n, where n is the pseudo-normal
+/// outside. The sign is that of (p − q) · n, where n is the pseudo-normal
 /// of the feature holding q — the face normal when q is inside a face, the sum of the two
 /// face normals for an edge, Σ αᵢ nᵢ (αᵢ = incident angle) for a vertex — which is exact for
 /// a closed, manifold mesh wound outward (validateMesh). For other meshes the sign is

@@ -13,10 +13,10 @@ namespace rbfmuscle {
 
 /// Settings of the descent.
 struct DescentSettings {
-  int max_iterations = 2;        ///< L-BFGS steps per frame (0: no descent)
+  int max_iterations = 1;        ///< L-BFGS steps per frame (0: no descent)
   double cost_tolerance = 1e-3;  ///< stop when a step lowers E by less than this fraction
   double regularisation = 1e-2;  ///< ρ: pull of each free kernel towards where the map put it
-  int points = 1000;             ///< quadrature points of the objective (a regular subset of the volume's)
+  int points = 500;              ///< quadrature points of the objective (a regular subset of the volume's)
 };
 
 /// Minimises CurvatureObjective over the free kernel centres (curvature_objective.h) with a

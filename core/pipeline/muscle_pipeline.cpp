@@ -30,8 +30,7 @@ MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const Pipelin
   state_->quadrature_mm = quadrature.points_mm;
   state_->volume_changes = Eigen::VectorXd::Ones(quadrature.points_mm.cols());
 
-  // Contacts at rest: the rest clearance enters the rest volume, the rest surface and the
-  // tissue map's reference for sliding.
+  // Contacts at rest: the rest clearance enters the rest volume and the rest surface.
   std::unique_ptr<ContactStage> contacts;
   state_->clearance_mm = Eigen::VectorXd::Constant(quadrature.points_mm.cols(), std::numeric_limits<double>::infinity());
   if (!definition.bones.empty()) {
@@ -68,7 +67,6 @@ MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const Pipelin
   const MeshDistance muscle_surface(definition.rest_mesh_M);
   lattice_ = std::make_shared<TissueLattice>(fit.getCentres(), definition.attachments, quadrature.box_mm.min(),
                                              quadrature.cell_mm, cover, &muscle_surface, settings.lattice);
-  if (state_->bones) lattice_->setRestClearance(*state_->bones);
 
   NeighbourLists quadrature_lists = findMaterialNeighbours(rest, quadrature.points_mm);
   stages_.resize(kSlots);

@@ -30,8 +30,8 @@ struct MuscleDefinition {
 
 /// Every stage's settings. The defaults are the recommended settings for any muscle.
 struct PipelineSettings {
-  double cutoff = 1e-4;             ///< ε: a kernel is ignored where φ < ε
-  int quadrature_points = 4000;     ///< points of the volume measure (a grid over the muscle and a shell)
+  double cutoff = 1e-3;             ///< ε: a kernel is ignored where φ < ε
+  int quadrature_points = 2000;     ///< points of the volume measure (a grid over the muscle and a shell)
   LatticeSettings lattice;          ///< the tissue map
   DescentSettings descent;          ///< the curvature descent
   BalanceSettings volume;           ///< the volume step

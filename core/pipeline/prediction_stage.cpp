@@ -24,7 +24,7 @@ PredictionStage::PredictionStage(std::shared_ptr<TissueLattice> lattice, const E
 }
 
 void PredictionStage::run(MuscleState& state, const FrameInput& input) {
-  lattice_->update(input.bone_motion_M, state.bones);
+  lattice_->update(input.bone_motion_M);
   lattice_->carry(kernels_, centres_mm_, frames_);
   state.field.setWeights(rest_weights_);
   state.field.setKernels(centres_mm_, frames_);
@@ -47,7 +47,7 @@ void PredictionStage::run(MuscleState& state, const FrameInput& input) {
     }
   const Eigen::VectorXd& blend = lattice_->getBlendVolumeChanges();
   report_ = Report{static_cast<double>(state.field.countClampedFrames()), blend.minCoeff(), blend.maxCoeff(),
-                   static_cast<double>(lattice_->countSlidNodes()), state.bones ? overlap : kNaN};
+                   state.bones ? overlap : kNaN};
 }
 
 }  // namespace rbfmuscle

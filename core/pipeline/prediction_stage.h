@@ -11,8 +11,8 @@
 namespace rbfmuscle {
 
 /// Carries the kernels (centre and frame F, attached kernels rigid with their bone) and the
-/// quadrature points with the bones (tissue_lattice.h; tissue slides out of the posed bones),
-/// samples the bones' clearance at the quadrature points, and resets the weights to the rest
+/// quadrature points with the bones (tissue_lattice.h), samples the bones' clearance at the
+/// quadrature points, and resets the weights to the rest
 /// fit: every frame is a function of the bone poses alone, so nothing drifts and a frame
 /// reached in one step equals one reached in many.
 class PredictionStage final : public FrameStage {
@@ -31,7 +31,6 @@ class PredictionStage final : public FrameStage {
     double clamped_frames = kNaN;      ///< kernels whose frame the stretch limits clamped
     double blend_volume_change_min = kNaN;  ///< smallest det DΦ of the bone blend
     double blend_volume_change_max = kNaN;  ///< largest det DΦ of the bone blend
-    double slid_nodes = kNaN;          ///< lattice nodes slid out of a bone
     double bone_overlap_max_mm = kNaN; ///< deepest quadrature point inside a bone (mm)
   };
   static constexpr ReportEntry<Report> kReport[] = {
@@ -41,9 +40,8 @@ class PredictionStage final : public FrameStage {
        &Report::blend_volume_change_min},
       {"blend_volume_change_max", "1", "largest volume change det DΦ of the bone blend, before thinning",
        &Report::blend_volume_change_max},
-      {"slid_nodes", "1", "nodes of the tissue map slid out of a bone this frame", &Report::slid_nodes},
       {"bone_overlap_max_mm", "mm",
-       "deepest quadrature point inside a bone after the slide: the part of the muscle the bone takes away",
+       "deepest quadrature point inside a bone: the part of the muscle the bone takes away",
        &Report::bone_overlap_max_mm},
   };
 

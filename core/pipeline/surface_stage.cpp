@@ -16,29 +16,81 @@ SurfaceStage::SurfaceStage(std::shared_ptr<TissueLattice> lattice, TriangleMesh 
   lists_ = findMaterialNeighbours(rest_field, rest_.vertices_mm);
 }
 
+namespace {
+
+/// Newton steps on g(p) = 0 for a field g, each halved until |g| drops; returns the final sample.
+FieldSample projectOnto(const ImplicitField& g, Eigen::Vector3d& p, const SurfaceSettings& settings) {
+  FieldSample at = g.calcSample(p);
+  for (int step = 0; step < settings.newton_steps && std::abs(at.value) > settings.tolerance; ++step) {
+    const double n2 = at.gradient.squaredNorm();
+    if (!(n2 > 1e-24)) break;
+    Eigen::Vector3d delta = -at.value * at.gradient / n2;
+    const double length = delta.norm();
+    if (length > settings.max_step_mm) delta *= settings.max_step_mm / length;
+    bool lowered = false;
+    for (int halving = 0; halving < 8 && !lowered; ++halving, delta *= 0.5) {
+      const FieldSample trial = g.calcSample(p + delta);
+      if (std::abs(trial.value) < std::abs(at.value)) {
+        p += delta;
+        at = trial;
+        lowered = true;
+      }
+    }
+    if (!lowered) break;
+  }
+  return at;
+}
+
+/// The field alone, over a kernel list.
+class ListedField final : public ImplicitField {
+ public:
+  ListedField(const DeformedField& field, const int* kernels, int count) : field_(field), kernels_(kernels), count_(count) {}
+  double calcValue(const Eigen::Vector3d& p) const override { return field_.calcValueAmong(p, kernels_, count_); }
+  Eigen::Vector3d calcGradient(const Eigen::Vector3d& p) const override { return calcSample(p).gradient; }
+  FieldSample calcSample(const Eigen::Vector3d& p) const override { return field_.calcSampleAmong(p, kernels_, count_); }
+
+ private:
+  const DeformedField& field_;
+  const int* kernels_;
+  int count_;
+};
+
+}  // namespace
+
 void SurfaceStage::run(MuscleState& state, const FrameInput&) {
   TriangleMesh& surface = state.surface_M;
   surface.triangles = rest_.triangles;
   lattice_->carry(binding_, surface.vertices_mm);
   double residual = 0.0, depth = 0.0;
+  int unresolved = 0;
+  found_.assign(static_cast<size_t>(surface.vertices_mm.cols()), 1);
   for (Eigen::Index v = 0; v < surface.vertices_mm.cols(); ++v) {
-    const MuscleShape shape(state, lists_.begin(static_cast<int>(v)), lists_.count(static_cast<int>(v)));
+    const int j = static_cast<int>(v);
     Eigen::Vector3d p = surface.vertices_mm.col(v);
-    FieldSample g = shape.calcSample(p);
-    for (int step = 0; step < settings_.newton_steps && std::abs(g.value) > settings_.tolerance; ++step) {
-      const double n2 = g.gradient.squaredNorm();
-      if (!(n2 > 1e-24)) break;
-      Eigen::Vector3d delta = -g.value * g.gradient / n2;
-      const double length = delta.norm();
-      if (length > settings_.max_step_mm) delta *= settings_.max_step_mm / length;
-      p += delta;
-      g = shape.calcSample(p);
-    }
+    // First onto the field's surface f = 0 (smooth), then, where that lies in a bone, onto the
+    // bone's surface: the surface of min(f, s) is f = 0 outside the bones and s = 0 on them.
+    projectOnto(ListedField(state.field, lists_.begin(j), lists_.count(j)), p, settings_);
+    const MuscleShape shape(state, lists_.begin(j), lists_.count(j));
+    if (state.bones && state.bones->calcValue(p) < 0.0) projectOnto(*state.bones, p, settings_);
+    const double g = shape.calcValue(p);
     surface.vertices_mm.col(v) = p;
-    residual = std::max(residual, std::abs(g.value));
-    if (state.bones) depth = std::max(depth, -state.bones->sample(p).value_mm);
+    if (std::abs(g) > settings_.tolerance) {  // the muscle there lies wholly in a bone: no surface left
+      ++unresolved;
+      residual = std::max(residual, std::abs(g));
+      found_[static_cast<size_t>(v)] = 0;
+      continue;
+    }
+    if (state.bones) depth = std::max(depth, -state.bones->calcValue(p));
   }
-  report_ = Report{residual, state.bones ? depth : kNaN};
+  if (unresolved > 0) {  // triangles at vertices that found no surface are not part of it
+    Eigen::Index kept = 0;
+    for (Eigen::Index t = 0; t < surface.triangles.cols(); ++t)
+      if (found_[static_cast<size_t>(surface.triangles(0, t))] && found_[static_cast<size_t>(surface.triangles(1, t))] &&
+          found_[static_cast<size_t>(surface.triangles(2, t))])
+        surface.triangles.col(kept++) = surface.triangles.col(t);
+    surface.triangles.conservativeResize(3, kept);
+  }
+  report_ = Report{residual, static_cast<double>(unresolved), state.bones ? depth : kNaN};
 }
 
 }  // namespace rbfmuscle

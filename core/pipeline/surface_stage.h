@@ -18,9 +18,12 @@ struct SurfaceSettings {
   double max_step_mm = 2.0;      ///< longest projection step (mm), > 0
 };
 
-/// The rest surface's vertices carried by the tissue map, then projected onto min(f, s) = 0
-/// along the gradient (Newton steps): the surface for pictures and for checking contacts,
-/// with no grid evaluated per frame. Runs only when a frame asks for it.
+/// The rest surface's vertices carried by the tissue map, then projected onto f = 0 and, where
+/// that lies in a bone, onto the bone's surface (Newton steps along the gradient, each halved
+/// until the residual drops): the surface of min(f, s), for pictures and for checking
+/// contacts, with no grid evaluated per frame. A vertex whose part of the muscle lies wholly
+/// in a bone finds no surface; its triangles are left out (the vertex stays, so vertices keep
+/// their index from frame to frame). Runs only when a frame asks for it.
 class SurfaceStage final : public FrameStage {
  public:
   /// @param rest_surface_M the rest surface (M, mm), e.g. extracted once from the rest field
@@ -29,12 +32,16 @@ class SurfaceStage final : public FrameStage {
 
   /// What a frame's surface tracking did.
   struct Report {
-    double residual_max = kNaN;       ///< largest |min(f, s)| after projection
-    double bone_depth_max_mm = kNaN;  ///< deepest vertex inside a bone, sampled (mm)
+    double residual_max = kNaN;       ///< largest |min(f, s)| at an unresolved vertex
+    double unresolved = kNaN;         ///< vertices that found no surface
+    double bone_depth_max_mm = kNaN;  ///< deepest resolved vertex inside a bone, sampled (mm)
   };
   static constexpr ReportEntry<Report> kReport[] = {
-      {"surface_residual_max", "1", "largest |min(f, s)| at a tracked surface vertex after its projection",
+      {"surface_residual_max", "1", "largest |min(f, s)| at a tracked vertex that found no surface (0: all found it)",
        &Report::residual_max},
+      {"surface_vertices_unresolved", "1",
+       "tracked vertices that found no surface near them: the muscle there lies wholly in a bone",
+       &Report::unresolved},
       {"surface_bone_depth_max_mm", "mm", "deepest tracked surface vertex inside a bone (its sampled distance)",
        &Report::bone_depth_max_mm},
   };
@@ -51,6 +58,7 @@ class SurfaceStage final : public FrameStage {
   SurfaceSettings settings_;
   LatticeBinding binding_;
   NeighbourLists lists_;
+  std::vector<char> found_;  ///< per vertex: whether it found the surface this frame
   Report report_;
 };
 

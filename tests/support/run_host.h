@@ -24,13 +24,15 @@ inline std::string readText(const std::filesystem::path& path) {
   return s.str();
 }
 
-/// Runs `rbfmuscle ARGS`; logs go to BINARY_DIR/test_out/GROUP/NAME_log/{stdout,stderr}.
-inline HostResult runHost(const std::string& args, const std::string& group, const std::string& name) {
+/// Runs `rbfmuscle ARGS` (with `environment`, e.g. "OMP_NUM_THREADS=1", set for it); logs go
+/// to BINARY_DIR/test_out/GROUP/NAME_log/{stdout,stderr}.
+inline HostResult runHost(const std::string& args, const std::string& group, const std::string& name,
+                          const std::string& environment = "") {
   namespace fs = std::filesystem;
   const fs::path binary = fs::path(RBFMUSCLE_BINARY_DIR) / "bin/rbfmuscle";
   const fs::path logs = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out" / group / (name + "_log");
   fs::create_directories(logs);
-  const std::string command = "'" + binary.string() + "' " + args + " >'" + (logs / "stdout").string() +
+  const std::string command = (environment.empty() ? "" : "env " + environment + " ") + "'" + binary.string() + "' " + args + " >'" + (logs / "stdout").string() +
                               "' 2>'" + (logs / "stderr").string() + "'";
   const int status = std::system(command.c_str());
   HostResult result;

@@ -22,7 +22,6 @@ TEST(Quadrature, CoversTheBandWithAboutTheTargetCount) {
   for (Eigen::Index j = 0; j < q.points_mm.cols(); ++j) {
     max_r = std::max(max_r, q.points_mm.col(j).norm());
     EXPECT_GT(field.calcValue(q.points_mm.col(j)), -settings.band_value);
-    EXPECT_EQ(q.target_curvatures(j), field.calcMeanCurvature(q.points_mm.col(j)));
   }
   EXPECT_LT(max_r, band_radius);
   EXPECT_GT(max_r, band_radius - 2.0 * q.cell_mm);

@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// TissueLattice: rigid motions stay rigid, frames are the map's gradient, incompressibility
-// thins a stretched rod and keeps its volume, and tissue slides out of an obstacle.
+// TissueLattice: rigid motions stay rigid, frames are the map's gradient, and incompressibility
+// thins a stretched rod and keeps its volume.
 #include "dynamics/tissue_lattice.h"
 #include "dynamics_test_shapes.h"
 #include "geometry/mesh_distance.h"
@@ -101,28 +101,6 @@ TEST(TissueLattice, AStretchedRodThinsAcrossItsThicknessAndKeepsItsVolume) {
   ASSERT_GE(side, 0);
   EXPECT_LT(std::abs(thinned.getNodes()(1, side) - thinned.getNodes()(1, middle)),
             std::abs(blend_only.getNodes()(1, side) - blend_only.getNodes()(1, middle)) + 1e-9);
-}
-
-/// An obstacle: the half-space z < −3 as a signed distance (positive outside).
-class Floor final : public ImplicitField {
- public:
-  double calcValue(const Eigen::Vector3d& p) const override { return p.z() + 3.0; }
-  Eigen::Vector3d calcGradient(const Eigen::Vector3d&) const override { return Eigen::Vector3d::UnitZ(); }
-};
-
-TEST(TissueLattice, TissueCarriedIntoAnObstacleSlidesOntoItsSurface) {
-  const Rod rod;
-  TissueLattice lattice = makeLattice(rod, false);
-  const Floor floor;
-  lattice.setRestClearance(floor);
-  // Both bones sink 5 mm: the tissue would enter the floor; nodes that were outside stop on it.
-  const Eigen::Isometry3d sink(Eigen::Translation3d(0, 0, -5));
-  lattice.update({sink, sink}, &floor);
-  EXPECT_GT(lattice.countSlidNodes(), 0);
-  for (int n = 0; n < lattice.countNodes(); ++n) {
-    const double rest_clearance = std::min(floor.calcValue(lattice.getRestNode(n)), 0.0);
-    EXPECT_GE(floor.calcValue(lattice.getNodes().col(n)), rest_clearance - 1e-9) << "node " << n;
-  }
 }
 
 TEST(TissueLattice, PointsOutsideTheCoveredCellsAreRefused) {

@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <cmath>
 #include <string>
 
@@ -104,14 +106,23 @@ TEST_F(HipSkeleton, NamesCoordinatesAndBodiesInTreeOrder) {
 }
 
 TEST_F(HipSkeleton, MeshesResolveBesideUrdfWithMmScale) {
-  for (const char* body : {"pelvis", "femur_r"}) {
-    const auto& meshes = skeleton_->getBodyMeshes(skeleton_->findBodyIndex(body));
-    ASSERT_EQ(meshes.size(), 2u) << body;  // one visual, one collision
-    EXPECT_FALSE(meshes[0].collision);
-    EXPECT_TRUE(meshes[1].collision);
-    EXPECT_EQ(meshes[0].path, meshes[1].path);
-    EXPECT_EQ(meshes[0].path.rfind(kHipDir + "/meshes/", 0), 0u) << meshes[0].path;
-    EXPECT_TRUE(isApprox(meshes[0].scale_to_mm, Eigen::Vector3d::Ones(), 1e-15));
+  // femur: one visual and one collision mesh; pelvis: the right ilium and the sacrum as both,
+  // the left ilium as a visual only (it touches no muscle of the right hip).
+  const std::pair<const char*, std::vector<std::pair<std::string, bool>>> expected[] = {
+      {"femur_r", {{"femur_r.ply", false}, {"femur_r.ply", true}}},
+      {"pelvis",
+       {{"pelvis_iliac_r.ply", false}, {"pelvis_iliac_r.ply", true}, {"pelvis_sacrum.ply", false},
+        {"pelvis_sacrum.ply", true}, {"pelvis_iliac_l.ply", false}}}};
+  for (const auto& [body, parts] : expected) {
+    std::vector<std::pair<std::string, bool>> found, wanted;
+    for (const BodyMesh& mesh : skeleton_->getBodyMeshes(skeleton_->findBodyIndex(body))) {
+      found.emplace_back(mesh.path, mesh.collision);
+      EXPECT_TRUE(isApprox(mesh.scale_to_mm, Eigen::Vector3d::Ones(), 1e-15));
+    }
+    for (const auto& [file, collision] : parts) wanted.emplace_back(kHipDir + "/meshes/" + file, collision);
+    std::sort(found.begin(), found.end());
+    std::sort(wanted.begin(), wanted.end());
+    EXPECT_EQ(found, wanted) << body;
   }
 }
 

@@ -1,0 +1,92 @@
+#!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
+"""Runs the hip scenes and writes the README's "Measured" section from their outputs.
+
+Usage: scripts/measure_scenes.py [--scenes hip_flexion,hip_adduction,...] [--no-write]
+Each scene runs once through build/bin/rbfmuscle (no frame meshes), then its summary.json and
+outputs.csv give, per muscle: the median wall time of a frame's update and of each stage, the
+volume ratio's range over the frames, the fibre length ratio at the first and last frame, and
+the most fibre points left outside. Timings depend on the machine and its load: the table
+states the machine's core count and load.
+"""
+import argparse
+import csv
+import json
+import os
+import statistics
+import subprocess
+import tempfile
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
+STAGES = ["contacts", "prediction", "descent", "volume", "fibres"]
+
+
+def run_scene(scene, out_root):
+    out = os.path.join(out_root, scene)
+    subprocess.run([HOST, "run", os.path.join(ROOT, "models", "hip", scene + ".xml"), "-o", out, "--quiet"],
+                   check=True)
+    with open(os.path.join(out, "summary.json")) as f:
+        summary = json.load(f)
+    with open(os.path.join(out, "outputs.csv")) as f:
+        rows = list(csv.reader(f))
+    header, data = rows[0], [[float(x) for x in r] for r in rows[1:]]
+    column = lambda name: [r[header.index(name)] for r in data]
+    muscles = sorted({h.split(".")[0] for h in header if h.endswith(".volume_ratio")})
+    figures = []
+    for m in muscles:
+        volume = column(m + ".volume_ratio")
+        fibre = column(m + ".fibre_length_ratio")
+        figures.append({
+            "muscle": m,
+            "update_ms": statistics.median(column(m + ".update_ms")),
+            "stages_ms": {s: statistics.median(column(f"{m}.{s}_ms")) for s in STAGES},
+            "volume": (min(volume), max(volume)),
+            "fibre": (fibre[0], fibre[-1]),
+            "outside": max(column(m + ".fibre_points_outside")),
+        })
+    return summary, figures
+
+
+def table(results):
+    lines = [f"Measured by `scripts/measure_scenes.py` on a {os.cpu_count()}-core machine "
+             f"(load {os.getloadavg()[0]:.1f} when it ended); a frame updates the muscles in parallel.",
+             "",
+             "| scene | frame median (ms) | frames/s | muscle | update median (ms) | of it: contacts / prediction / descent / volume / fibres (ms) | volume ratio | fibre length ratio, first → last frame | fibre points outside |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    for scene, (summary, figures) in results.items():
+        median = summary["frame_wall_ms"]["median"]
+        for i, f in enumerate(figures):
+            stages = " / ".join(f"{f['stages_ms'][s]:.1f}" for s in STAGES)
+            lines.append(f"| {scene if i == 0 else ''} | {f'{median:.1f}' if i == 0 else ''} | "
+                         f"{f'{1000.0 / median:.1f}' if i == 0 else ''} | {f['muscle']} | {f['update_ms']:.1f} | {stages} | "
+                         f"{f['volume'][0]:.4f} – {f['volume'][1]:.4f} | {f['fibre'][0]:.3f} → {f['fibre'][1]:.3f} | "
+                         f"{f['outside']:.0f} |")
+    return "\n".join(lines)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scenes", default="hip_flexion,hip_adduction,hip_rotation,hip_gait")
+    parser.add_argument("--no-write", action="store_true", help="print the table, leave README.md alone")
+    args = parser.parse_args()
+    with tempfile.TemporaryDirectory() as out_root:
+        results = {s: run_scene(s, out_root) for s in args.scenes.split(",")}
+    text = table(results)
+    print(text)
+    if args.no_write:
+        return
+    readme = os.path.join(ROOT, "README.md")
+    with open(readme) as f:
+        content = f.read()
+    begin = content.index("<!-- BEGIN measured")
+    begin = content.index("\n", begin) + 1
+    end = content.index("<!-- END measured -->")
+    with open(readme + ".tmp", "w") as f:
+        f.write(content[:begin] + text + "\n" + content[end:])
+    os.replace(readme + ".tmp", readme)
+    print("wrote the Measured section of README.md")
+
+
+if __name__ == "__main__":
+    main()
