@@ -21,7 +21,7 @@ namespace fs = std::filesystem;
 
 const char* const kRunHelp =
     "usage: rbfmuscle run MODEL.xml -o OUTDIR [-L PLUGIN]... [--set C.P=V]... [--motion FILE]\n"
-    "                     [--frames-mesh] [--quiet]\n"
+    "                     [--frames-mesh] [--quiet] [--keep-partial]\n"
     "\n"
     "Loads the plugins, builds the model from MODEL.xml, steps through its motion\n"
     "and writes, all or nothing (a failed run leaves OUTDIR untouched):\n"
@@ -41,6 +41,8 @@ const char* const kRunHelp =
     "                       the current directory)\n"
     "  --frames-mesh        write each component's geometry per frame\n"
     "  --quiet              no progress on stderr\n"
+    "  --keep-partial       when stopped by SIGINT (Ctrl-C) or SIGTERM, keep OUTDIR.partial-PID\n"
+    "                       (by default it is removed; the exit code is 130 or 143)\n"
     "  -h, --help           this text\n";
 
 const char* const kInfoHelp =
@@ -102,6 +104,8 @@ CommandLine parseCommandLine(const std::vector<std::string>& args, bool with_run
       line.frames_mesh = true;
     } else if (with_run && a == "--quiet") {
       line.quiet = true;
+    } else if (with_run && a == "--keep-partial") {
+      // read by main() before any thread starts (installInterruptHandling)
     } else if (!a.empty() && a[0] == '-') {
       throw UsageError("unknown option '" + a + "'");
     } else {
