@@ -194,6 +194,10 @@ RunSummary runModel(Model& model, const RunOptions& options) {
   const auto loop_start = Clock::now();
   for (int frame = 0; frame < frames; ++frame) {
     throwIfInterrupted();
+    // The first frame may be slow (its cost is unknown until it ends): announce it if it is.
+    std::unique_ptr<SlowWorkNotice> first_frame_notice;
+    if (frame == 0 && options.show_progress)
+      first_frame_notice = std::make_unique<SlowWorkNotice>("computing frame 1 of " + std::to_string(frames));
     const auto frame_start = Clock::now();
     const double time_s = motion.getTime(frame);
     start = Clock::now();
@@ -227,6 +231,7 @@ RunSummary runModel(Model& model, const RunOptions& options) {
       addTime(summary.stages.back(), msSince(start));
     }
     frame_ms.push_back(msSince(frame_start));
+    if (first_frame_notice) first_frame_notice->finish("computed frame 1 of " + std::to_string(frames));
     progress.update(frame + 1);
   }
   progress.finish();

@@ -21,9 +21,10 @@ inline constexpr double kSlowWorkNoticeSeconds = 30.0;
 struct RunOptions {
   std::string output_directory;     ///< OUTDIR
   bool write_frame_meshes = false;  ///< --frames-mesh
-  /// progress on stderr: a component initialisation longer than kSlowWorkFirstNoticeSeconds is
-  /// announced (and repeated every kSlowWorkNoticeSeconds), and the frame loop shows frame i/N
-  /// with the estimated time left from the first frame on (ProgressBar)
+  /// progress on stderr: a component initialisation or a first frame longer than
+  /// kSlowWorkFirstNoticeSeconds is announced (and repeated every kSlowWorkNoticeSeconds), and
+  /// the frame loop shows frame i/N with the estimated time left from the first frame on
+  /// (ProgressBar)
   bool show_progress = true;
   double load_seconds = 0.0;        ///< time the caller spent loading plugins and model (reported)
 };
