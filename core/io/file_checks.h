@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <iterator>
 #include <string>
 
 namespace rbfmuscle::io {
@@ -66,6 +67,21 @@ inline bool isSameFile(const std::string& a, const std::string& b) {
   const fs::path pa = fs::weakly_canonical(fs::absolute(a), ec);
   const fs::path pb = fs::weakly_canonical(fs::absolute(b), ec);
   return pa.lexically_normal() == pb.lexically_normal();
+}
+
+/// True when `path` is `directory` or lies inside it (both made absolute, normalised and with
+/// symbolic links of their existing parts resolved).
+inline bool isSameOrInside(const std::string& path, const std::string& directory) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(fs::absolute(path), ec).lexically_normal();
+  const fs::path d = fs::weakly_canonical(fs::absolute(directory), ec).lexically_normal();
+  auto pi = p.begin();
+  for (auto di = d.begin(); di != d.end(); ++di, ++pi) {
+    if (di->empty() && std::next(di) == d.end()) break;  // trailing separator
+    if (pi == p.end() || *pi != *di) return false;
+  }
+  return true;
 }
 
 /// True when `count` records of at least `min_bytes_each` bytes fit in `bytes_left`

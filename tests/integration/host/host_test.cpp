@@ -266,5 +266,26 @@ TEST(HostErrors, MotionThatIsADeviceIsRefusedWithoutReading) {
                          {"device.xml:1: <motion>", "/dev/zero", "is a character device, not a regular file"});
 }
 
+TEST(HostErrors, OutputDirectoryHoldingTheModelIsRefusedAndKept) {
+  // An earlier output (it has summary.json) that now holds the model would have been replaced,
+  // model and all, by the run.
+  const fs::path out = outputDir("outdir_holds_model");
+  fs::create_directories(out);
+  std::ofstream(out / "summary.json") << "{}\n";
+  const std::string model = R"(<RBFMuscleModel version="1"><skeleton file=")" +
+                            (fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip/hip_r.urdf").string() +
+                            R"("/><motion file=")" +
+                            (fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip/motions/hip_flexion_0_80.mot").string() +
+                            R"("/></RBFMuscleModel>)";
+  std::ofstream(out / "model.xml") << model;
+  const HostResult r = runHost("run '" + (out / "model.xml").string() + "' -o '" + out.string() + "'",
+                               "outdir_holds_model");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("run: -o " + out.string() + " holds the model file " + (out / "model.xml").string()),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(fs::exists(out / "model.xml"));
+}
+
 }  // namespace
 }  // namespace rbfmuscle
