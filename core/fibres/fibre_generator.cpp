@@ -46,7 +46,7 @@ void checkSettings(const FibreSettings& s) {
     fail("count " + std::to_string(s.count) + ", segments " + std::to_string(s.segments) + " and " +
          std::to_string(s.smoothing_iterations) + " relaxation rounds need about " + text +
          " point-pair evaluations to generate the fibres, more than the " + bound +
-         " allowed (about a minute); use fewer fibres or segments");
+         " allowed (a minute or two); use fewer fibres or segments");
   }
 }
 

@@ -10,6 +10,8 @@
 #include "host/fit_command.h"
 #endif
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cstdio>
 #include <exception>
@@ -38,7 +40,8 @@ int main(int argc, char** argv) {
     throw UsageError(command.empty() ? "no command given" : "unknown command '" + command + "'");
   } catch (const rbfmuscle::Interrupted& error) {
     rbfmuscle::markInterruptHandled();
-    std::fprintf(stderr, "rbfmuscle: %s; stopped, %s\n", error.what(),
+    // On a terminal a progress line may be open: end it first.
+    std::fprintf(stderr, "%srbfmuscle: %s; stopped, %s\n", isatty(STDERR_FILENO) ? "\n" : "", error.what(),
                  rbfmuscle::isKeepPartialRequested() ? "partial output kept (--keep-partial)"
                                                      : "no output written");
     return error.getExitCode();
