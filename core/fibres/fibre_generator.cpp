@@ -7,9 +7,16 @@
 #include <limits>
 #include <numeric>
 #include <stdexcept>
+#include <cstdio>
 #include <string>
 
 namespace rbfmuscle {
+
+double estimateSpreadingPairs(const FibreSettings& s) {
+  return static_cast<double>(std::max(s.smoothing_iterations, 0)) * static_cast<double>(s.count) *
+         static_cast<double>(s.count) * std::max(s.segments - 1, 0);
+}
+
 namespace {
 
 void checkSettings(const FibreSettings& s) {
@@ -24,6 +31,23 @@ void checkSettings(const FibreSettings& s) {
   if (s.smoothing_iterations < 0) fail("smoothing_iterations must be ≥ 0, got " + std::to_string(s.smoothing_iterations));
   if (!std::isfinite(s.end_depth)) fail("end_depth must be finite, got " + std::to_string(s.end_depth));
   checkProjectionSettings(s.projection);
+  const double points = static_cast<double>(s.count) * (s.segments + 1.0);
+  if (points > kMaxFibrePoints)
+    fail("count " + std::to_string(s.count) + " × (segments " + std::to_string(s.segments) + " + 1) = " +
+         std::to_string(static_cast<long long>(points)) + " fibre points, more than the " +
+         std::to_string(static_cast<long long>(kMaxFibrePoints)) +
+         " that can be tracked (each is moved and projected every frame); use fewer fibres or segments");
+  const double pairs = estimateSpreadingPairs(s);
+  if (pairs > kMaxSpreadingPairs) {
+    char text[64];
+    std::snprintf(text, sizeof text, "%.3g", pairs);
+    char bound[64];
+    std::snprintf(bound, sizeof bound, "%.3g", kMaxSpreadingPairs);
+    fail("count " + std::to_string(s.count) + ", segments " + std::to_string(s.segments) + " and " +
+         std::to_string(s.smoothing_iterations) + " relaxation rounds need about " + text +
+         " point-pair evaluations to generate the fibres, more than the " + bound +
+         " allowed (a minute or two); use fewer fibres or segments");
+  }
 }
 
 /// Distance from p to the nearest region point (mm).

@@ -44,6 +44,24 @@
 
 namespace rbfmuscle {
 
+/// Most fibre points N·(S+1) allowed: 1e6. Every one is carried by the blend and projected
+/// inside every frame (fibre_tracker.h), at about a microsecond or more each: beyond, frames
+/// take seconds. The hip scenes use 100 × 16.
+inline constexpr double kMaxFibrePoints = 1e6;
+
+/// Most point-pair evaluations of the spreading push allowed while generating the fibres
+/// (estimateSpreadingPairs): 1e10, a minute or two on this project's 2-core machine (the
+/// gluteus with 1000 fibres × 50 segments, 1e9 pairs, took 13 s more CPU than with the
+/// scenes' 100 × 15, the paths and three frames of tracking included). The push
+/// compares each interior point with the same point of every other fibre in every round, so
+/// the cost grows as rounds·N²·(S−1): 100 × 15 takes 3e6, 10 000 × 1000 would take 2e12
+/// (hours) and is refused up front instead.
+inline constexpr double kMaxSpreadingPairs = 1e10;
+
+struct FibreSettings;
+/// rounds·N²·(S−1): the point pairs the spreading push evaluates for these settings.
+double estimateSpreadingPairs(const FibreSettings& settings);
+
 /// Settings of generateFibres.
 struct FibreSettings {
   int count = 100;                   ///< N fibres, ≥ 1
@@ -81,7 +99,8 @@ struct RestFibres {
 /// Generates the fibres (see file comment).
 /// @param origin_region_mm 3×K₀ points marking the origin attachment (M, mm; landmarks or
 ///   attached centres), K₀ ≥ 1; `insertion_region_mm` the same for the insertion.
-/// @throws std::invalid_argument on bad settings, empty or non-finite regions, or when no
+/// @throws std::invalid_argument on bad settings (including more than kMaxFibrePoints points or
+///   kMaxSpreadingPairs pair evaluations, checked before any work), empty or non-finite regions, or when no
 ///   N interior candidates lie near a region; std::runtime_error if the inside is disconnected.
 RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& origin_region_mm,
                           const Eigen::Matrix3Xd& insertion_region_mm, const FibreSettings& settings = {});

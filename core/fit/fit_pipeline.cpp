@@ -4,9 +4,13 @@
 #include <cmath>
 
 #include "fit/sample_set.h"
+#include "geometry/mesh_check.h"
 #include "geometry/mesh_distance.h"
 #include "geometry/mesh_io.h"
+#include "geometry/self_intersection.h"
 #include "geometry/solid_mesh.h"
+
+#include <sstream>
 
 namespace rbfmuscle {
 namespace {
@@ -23,13 +27,44 @@ struct PreparedMesh {
   std::string hash;
 };
 
-PreparedMesh prepareMesh(const std::string& mesh_path, bool fix_winding) {
+/// Warns about what makes a closed mesh a poor target without making it invalid: several
+/// separate pieces, or triangles crossing each other.
+void warnAboutShape(const TriangleMesh& mesh, const std::string& mesh_path, const MeshWarningFn& warn) {
+  if (!warn) return;
+  const int pieces = checkMesh(mesh).components;
+  if (pieces > 1)
+    warn(mesh_path + ": the mesh has " + std::to_string(pieces) +
+         " separate pieces; they are fitted as one surface with one box and one set of centres, "
+         "which fits none of them well (fit each piece on its own)");
+  const SelfIntersections crossings = findSelfIntersections(mesh, kMaxReportedSelfIntersections);
+  if (crossings.pairs > 0) {
+    std::ostringstream text;
+    text << mesh_path << ": the mesh crosses itself: " << (crossings.capped ? "at least " : "") << crossings.pairs
+         << " pairs of triangles intersect (e.g. triangles";
+    for (std::size_t k = 0; k < crossings.examples.size(); ++k)
+      text << (k ? ", " : " ") << crossings.examples[k].first << " and " << crossings.examples[k].second;
+    text << "); its inside is ambiguous and the fit will follow neither sheet well";
+    warn(text.str());
+  }
+}
+
+PreparedMesh prepareMesh(const std::string& mesh_path, bool fix_winding, const FitSettings& settings) {
   PreparedMesh prepared;
   prepared.mesh_M = loadSolidMesh(mesh_path, SolidMeshOptions{fix_winding});
+  warnAboutShape(prepared.mesh_M, mesh_path, printMeshWarning);
   const Eigen::AlignedBox3d box(prepared.mesh_M.vertices_mm.rowwise().minCoeff(),
                                 prepared.mesh_M.vertices_mm.rowwise().maxCoeff());
   prepared.offset_mm = box.center();
   prepared.mesh_M.vertices_mm.colwise() -= prepared.offset_mm;
+  const double extent_mm = box.sizes().maxCoeff();
+  if (extent_mm < kMinCellsAcrossMesh * settings.surface_cell_mm) {
+    std::ostringstream text;
+    text << mesh_path << ": the mesh spans " << extent_mm << " mm, less than " << kMinCellsAcrossMesh
+         << " cells of the extracted surface (cell " << settings.surface_cell_mm
+         << " mm): the fit could not be measured; scale the fit options to the mesh (cell, clamp, normal "
+            "offset, shapes; scripts/fit_table.sh fits a 1 mm tetrahedron so) or check its units";
+    throw MeshError(text.str());
+  }
   prepared.hash = hashFile(mesh_path);
   return prepared;
 }
@@ -46,6 +81,13 @@ MeshFit fitPrepared(const PreparedMesh& prepared, const std::string& mesh_path,
   result.stop_reason = fit.stop_reason;
   result.final_refit = fit.final_refit;
   result.metrics = measureFit(fit.field, distance, samples.box_mm, settings);
+  if (result.metrics.surface_M.countTriangles() == 0 || !(result.metrics.surface_volume_mm3 > 0)) {
+    std::ostringstream text;
+    text << mesh_path << ": the fit failed: its surface f = 0 is empty (Jaccard " << result.metrics.jaccard
+         << ", mesh volume " << result.metrics.mesh_volume_mm3 << " mm^3, " << fit.field.getNumCentres()
+         << " centres); the fit options (shapes, clamp, cell) do not suit a mesh of this size";
+    throw MeshError(text.str());
+  }
   result.surface.field = std::move(fit.field);
   result.surface.frame_offset_mm = prepared.offset_mm;
   result.surface.source_mesh = getFileName(mesh_path);
@@ -60,7 +102,7 @@ MeshFit fitPrepared(const PreparedMesh& prepared, const std::string& mesh_path,
 
 MeshFit fitMeshFile(const std::string& mesh_path, const FitSettings& settings, bool fix_winding,
                     const FitProgressFn& progress) {
-  return fitPrepared(prepareMesh(mesh_path, fix_winding), mesh_path, settings, progress);
+  return fitPrepared(prepareMesh(mesh_path, fix_winding, settings), mesh_path, settings, progress);
 }
 
 MeshFit fitMeshFileGlobalShape(const std::string& mesh_path, FitSettings settings, bool fix_winding,
@@ -68,7 +110,7 @@ MeshFit fitMeshFileGlobalShape(const std::string& mesh_path, FitSettings setting
                                const std::function<void(double, double)>& report) {
   if (!(alpha_lo > 0 && alpha_hi > alpha_lo))
     throw std::invalid_argument("global shape search needs 0 < alpha_lo < alpha_hi");
-  const PreparedMesh prepared = prepareMesh(mesh_path, fix_winding);
+  const PreparedMesh prepared = prepareMesh(mesh_path, fix_winding, settings);
   auto fitAt = [&](double log_alpha) {
     settings.global_shape_per_mm2 = std::exp(log_alpha);
     MeshFit fit = fitPrepared(prepared, mesh_path, settings, {});

@@ -21,11 +21,23 @@ struct MeshFit {
   double seconds = 0.0;  ///< wall time of sampling + fit (metrics excluded)
 };
 
+/// The fit refuses a mesh that spans fewer than this many cells of the extracted surface
+/// (FitSettings::surface_cell_mm): its surface could not be measured.
+constexpr double kMinCellsAcrossMesh = 4.0;
+
+/// Self-intersecting triangle pairs counted at most before the fit's warning (the search
+/// stops there).
+constexpr int kMaxReportedSelfIntersections = 1000;
+
 /// Loads the mesh with loadSolidMesh (defects repaired where safe, with a warning on
 /// stderr; then validated: watertight, consistently wound — or rewound when
 /// `fix_winding`), moves it to the muscle frame M (origin at the centre
-/// of its bounding box), samples, fits and measures.
-/// @throws MeshError for a bad mesh, std::invalid_argument for bad settings.
+/// of its bounding box), samples, fits and measures. A mesh of several separate pieces, or one
+/// whose triangles cross (self_intersection.h), is fitted with a warning (printMeshWarning):
+/// the result is poor without being invalid.
+/// @throws MeshError for a bad mesh, for one spanning fewer than kMinCellsAcrossMesh cells
+///   of the extracted surface, and when the fitted surface is empty (no f > 0 found: the
+///   options do not suit the mesh's size); std::invalid_argument for bad settings.
 MeshFit fitMeshFile(const std::string& mesh_path, const FitSettings& settings, bool fix_winding,
                     const FitProgressFn& progress = {});
 

@@ -7,14 +7,35 @@
 #include <limits>
 #include <sstream>
 
+#include "io/file_checks.h"
+
 namespace rbfmuscle {
 namespace {
 
 /// Line-by-line reader that skips comments and names file:line in errors.
 class RecordReader {
  public:
-  explicit RecordReader(const std::string& path) : path_(path), in_(path) {
+  explicit RecordReader(const std::string& path) : path_(path) {
+    const std::string problem = io::findInputFileProblem(path, "a .rbf surface file");
+    if (problem.rfind("is ", 0) == 0) throw RbfFileError(path + ": cannot open the .rbf file: it " + problem);
+    if (!problem.empty()) throw RbfFileError(path + ": cannot open the .rbf file (missing or unreadable)");
+    in_.open(path);
     if (!in_) throw RbfFileError(path + ": cannot open the .rbf file");
+    std::error_code ec;
+    file_bytes_ = std::filesystem::file_size(path, ec);
+  }
+
+  std::uintmax_t getFileBytes() const { return file_bytes_; }
+  int getLineNumber() const { return line_number_; }
+
+  /// Fails at the first non-comment line left in the file (records beyond the declared count).
+  void expectEnd(const std::string& what) {
+    std::string line;
+    while (std::getline(in_, line)) {
+      ++line_number_;
+      if (line.empty() || line[0] == '#') continue;
+      fail(what);
+    }
   }
 
   /// Next non-comment line split at its first space into key and rest.
@@ -65,7 +86,17 @@ class RecordReader {
   std::string path_;
   std::ifstream in_;
   int line_number_ = 0;
+  std::uintmax_t file_bytes_ = 0;
 };
+
+/// Fails through `reader` when |value| exceeds `bound`, naming `what`.
+void checkMagnitude(const RecordReader& reader, double value, double bound, const std::string& what) {
+  if (std::abs(value) > bound) {
+    std::ostringstream text;
+    text << what << " " << value << " has a magnitude above " << bound << " (see rbf_file.h)";
+    reader.fail(text.str());
+  }
+}
 
 }  // namespace
 
@@ -118,9 +149,11 @@ RbfSurface readRbfFile(const std::string& path) {
   reader.next("source_hash", s.source_hash);
   reader.next("frame_offset_mm", rest);
   reader.parseNumbers(rest, 3, s.frame_offset_mm.data());
+  for (int k = 0; k < 3; ++k) checkMagnitude(reader, s.frame_offset_mm[k], kMaxRbfCoordinateMm, "frame offset");
   double offset = 0.0, cutoff = 0.0, count = 0.0;
   reader.next("offset", rest);
   reader.parseNumbers(rest, 1, &offset);
+  checkMagnitude(reader, offset, kMaxRbfWeight, "offset");
   reader.next("cutoff", rest);
   reader.parseNumbers(rest, 1, &cutoff);
   if (!(cutoff >= 0 && cutoff < 1)) reader.fail("cutoff must be in [0, 1)");
@@ -128,18 +161,36 @@ RbfSurface readRbfFile(const std::string& path) {
   reader.next("metrics", s.metrics_json);
   reader.next("centres", rest);
   reader.parseNumbers(rest, 1, &count);
-  if (count < 0 || count != std::floor(count)) reader.fail("centre count must be a whole number ≥ 0");
+  if (count < 1 || count != std::floor(count) || count > kMaxRbfCentres)
+    reader.fail("centre count must be a whole number from 1 to " + std::to_string(kMaxRbfCentres) + ", got '" +
+                rest + "'" + (count == 0 ? " (a surface needs at least one centre)" : ""));
   const int n = static_cast<int>(count);
+  const int count_line = reader.getLineNumber();
+  // Each centre line holds five numbers: at least "0 0 0 0 1\n", 10 bytes.
+  if (!io::countFitsInBytes(n, 10, reader.getFileBytes()))
+    reader.fail("declares " + std::to_string(n) + " centres, but the file (" + std::to_string(reader.getFileBytes()) +
+                " bytes) cannot hold that many centre lines of at least 10 bytes");
   Eigen::Matrix3Xd centres(3, n);
   Eigen::VectorXd weights(n), shapes(n);
   for (int k = 0; k < n; ++k) {
     double row[5];
     reader.nextNumbers(5, row);
+    const std::string which = "centre " + std::to_string(k);
+    for (int c = 0; c < 3; ++c) checkMagnitude(reader, row[c], kMaxRbfCoordinateMm, which + ": coordinate");
+    checkMagnitude(reader, row[3], kMaxRbfWeight, which + ": weight");
     if (!(row[4] > 0)) reader.fail("shape of centre " + std::to_string(k) + " must be > 0");
+    if (!(row[4] >= kMinRbfShape && row[4] <= kMaxRbfShape)) {
+      std::ostringstream text;
+      text << "shape of centre " << k << " is " << row[4] << " mm^-2, expected " << kMinRbfShape << " to "
+           << kMaxRbfShape << " (see rbf_file.h)";
+      reader.fail(text.str());
+    }
     centres.col(k) << row[0], row[1], row[2];
     weights[k] = row[3];
     shapes[k] = row[4];
   }
+  reader.expectEnd("more centre lines than the " + std::to_string(n) + " declared by 'centres' on line " +
+                   std::to_string(count_line) + " (expected the end of the file)");
   s.field = GaussianField(offset, centres, weights, shapes, cutoff);
   return s;
 }

@@ -43,13 +43,32 @@ struct RbfSurface {
 /// Current format version.
 constexpr int kRbfFileVersion = 1;
 
+/// Bounds readRbfFile puts on what a file may hold. A fitted muscle lies within 1e3 mm of its
+/// frame origin, its weights are of the order of the clamp of the fit's target (τ = 10 mm by
+/// default) and its shapes span 0.005–0.5 mm⁻²; the bounds sit far outside so that any real
+/// fit passes, and close enough that sums and squares of every term stay finite (a weight of
+/// 1e308 made every curvature cost NaN):
+/// - coordinates (centres, frame offset): |x| ≤ 1e6 mm (1 km);
+constexpr double kMaxRbfCoordinateMm = 1e6;
+/// - weights and the offset b: |λ| ≤ 1e6 field units (1e5 times the default clamp);
+constexpr double kMaxRbfWeight = 1e6;
+/// - shapes: 1e-8 ≤ α ≤ 1e4 mm⁻², i.e. Gaussian widths σ = α^−½ from 10 m down to 10 µm;
+constexpr double kMinRbfShape = 1e-8;
+constexpr double kMaxRbfShape = 1e4;
+/// - centres: 1 ≤ N ≤ 1e7 (fits use up to 1e5), and N lines of at least 10 bytes must fit in
+///   the file, checked before anything is allocated.
+constexpr int kMaxRbfCentres = 10000000;
+
 /// Writes `surface` with full double precision, to a temporary file renamed
 /// over `path` (never half-written). @throws RbfFileError when it cannot.
 void writeRbfFile(const std::string& path, const RbfSurface& surface);
 
 /// Reads a file written by writeRbfFile. @throws RbfFileError naming the file
-/// and line: missing file, wrong magic or version, missing record, bad number,
-/// wrong centre count, non-positive shape.
+/// and line: missing file or not a regular file (a device, FIFO or directory is refused
+/// before it is read), wrong magic or version, missing record, bad number, a centre count
+/// outside 1…kMaxRbfCentres or more than the file's size can hold, fewer centre lines than
+/// declared ("file ends early") or more ("more centre lines than the N declared"), a value
+/// beyond the bounds above.
 RbfSurface readRbfFile(const std::string& path);
 
 }  // namespace rbfmuscle

@@ -1,24 +1,42 @@
 #include "fit/surface_cache.h"
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 
 #include "fit/fit_pipeline.h"
 #include "geometry/mesh_io.h"
+#include "io/file_checks.h"
 
 namespace rbfmuscle {
 
 RbfSurface loadOrFitSurface(const std::string& mesh_path, const std::string& rbf_path,
                             const FitSettings& settings, SurfaceOrigin& origin,
                             const std::function<void(const std::string&)>& log) {
-  const bool cached = !rbf_path.empty() && std::ifstream(rbf_path).good();
+  // The mesh must be a regular file before anything reads or hashes it (a device never ends).
+  {
+    const std::string problem = io::findInputFileProblem(mesh_path, "a mesh file");
+    if (!problem.empty()) throw MeshError(mesh_path + ": " + problem);
+  }
+  std::error_code ec;
+  const bool cached = !rbf_path.empty() && std::filesystem::exists(rbf_path, ec);
   if (cached) {
     RbfSurface surface = readRbfFile(rbf_path);
     const std::string hash = hashFile(mesh_path);
-    if (surface.source_hash != hash)
+    if (surface.source_hash != hash) {
+      // Before blaming the cache, make sure the mesh file is a mesh at all: a mesh_file naming
+      // some other file should be reported as that, not as a stale cache.
+      readMesh(mesh_path);
+      const std::string mesh_name = std::filesystem::path(mesh_path).filename().string();
+      const std::string names = surface.source_mesh == mesh_name
+                                    ? ""
+                                    : " (the .rbf was fitted to '" + surface.source_mesh + "', mesh_file names '" +
+                                          mesh_name + "': is mesh_file right?)";
       throw RbfFileError(rbf_path + ": fitted to a mesh with hash " + surface.source_hash + ", but " +
-                         mesh_path + " now has hash " + hash +
-                         "; delete the .rbf file to refit (it is never refitted silently)");
+                         mesh_path + " now has hash " + hash + names +
+                         "; if the mesh changed on purpose, delete the .rbf file to refit (it is never refitted "
+                         "silently)");
+    }
     origin = SurfaceOrigin::kCache;
     return surface;
   }

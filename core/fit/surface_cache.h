@@ -15,8 +15,11 @@ enum class SurfaceOrigin { kCache, kFitted };
 
 /// Returns the surface of `mesh_path`:
 /// - `rbf_path` exists and its source_hash equals the mesh file's hash → read it;
-/// - `rbf_path` exists with another hash → RbfFileError naming both files and
-///   hashes (the mesh changed: delete the cache to refit);
+/// - `mesh_path` is not a regular file → MeshError (before anything reads or hashes it);
+/// - `rbf_path` exists with another hash → first the mesh is read (readMesh), so a file that
+///   is not a mesh is reported as a MeshError; then RbfFileError naming both files and
+///   hashes (and both file names when they differ: the mesh changed, or mesh_file names
+///   another file; delete the cache to refit);
 /// - `rbf_path` does not exist (or is empty) → fit with `settings`, say so
 ///   through `log` (with progress), and write the cache when a path is given.
 /// @throws RbfFileError, MeshError, std::invalid_argument.

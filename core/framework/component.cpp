@@ -19,7 +19,12 @@ T* findByName(const std::vector<T*>& items, const std::string& name) {
 std::string InitContext::resolvePath(const std::string& path) const {
   const std::filesystem::path p(path);
   if (p.is_absolute()) return path;
-  return (std::filesystem::path(model_directory_) / p).lexically_normal().string();
+  const std::filesystem::path inside = p.lexically_normal();
+  if (!inside.empty() && *inside.begin() == "..")
+    throw FrameworkError("path '" + path + "' leaves the model directory " + model_directory_ +
+                         " (a relative path in a model file must stay inside its directory; write an absolute "
+                         "path to use a file elsewhere)");
+  return (std::filesystem::path(model_directory_) / inside).lexically_normal().string();
 }
 
 AbstractProperty* Component::findProperty(const std::string& name) const {

@@ -31,7 +31,13 @@ class InitContext {
   /// Directory for files a component writes; its content ends up in the run's
   /// OUTDIR (it is a staging directory renamed into place after success).
   const std::string& getOutputDirectory() const { return output_directory_; }
-  /// `path` unchanged when absolute, else resolved against the model directory.
+  /// `path` unchanged when absolute, else resolved against the model directory, inside it:
+  /// a component's files (meshes it reads, caches it writes) belong to the model, so a
+  /// relative path whose normal form starts with `..` (e.g. `../../../tmp/x.rbf`) is refused
+  /// before anything is read or written. An absolute path is the user's explicit choice of a
+  /// file elsewhere and is used as written. The check is on the text: a symbolic link inside
+  /// the model directory is followed (whoever placed it chose so).
+  /// @throws FrameworkError naming the path and the model directory.
   std::string resolvePath(const std::string& path) const;
   /// The skeleton at its rest pose (all coordinates 0) while components initialize.
   const Skeleton& getSkeleton() const { return *skeleton_; }

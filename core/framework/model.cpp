@@ -2,6 +2,8 @@
 
 #include <exception>
 
+#include "framework/interrupt.h"
+
 namespace rbfmuscle {
 namespace {
 
@@ -87,15 +89,21 @@ Model Model::build(ModelDocument document, const Registry& registry) {
   return Model(std::move(document), std::move(skeleton), std::move(motion), std::move(components));
 }
 
-void Model::initializeComponents(const std::string& output_directory) {
+void Model::initializeComponents(const std::string& output_directory, const InitProgressFn& progress) {
   // Components take the rest pose (all coordinates 0, where the meshes were
   // segmented) as their reference: the skeleton is there while they initialize.
   skeleton_.setCoordinateValues(Eigen::VectorXd::Zero(
       static_cast<Eigen::Index>(skeleton_.getCoordinateNames().size())));
   const InitContext context(document_.directory, output_directory, skeleton_);
-  for (const auto& component : components_) {
+  for (std::size_t c = 0; c < components_.size(); ++c) {
+    const auto& component = components_[c];
+    throwIfInterrupted();
+    if (progress) progress(*component, static_cast<int>(c), static_cast<int>(components_.size()), false);
     try {
       component->initialize(context);
+      if (progress) progress(*component, static_cast<int>(c), static_cast<int>(components_.size()), true);
+    } catch (const Interrupted&) {
+      throw;
     } catch (const std::exception& error) {
       throwAt(component->getSourceLocation(), std::string("initialize: ") + error.what());
     }

@@ -8,6 +8,7 @@
 #include "model/motion.h"
 #include "model/skeleton.h"
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -21,6 +22,10 @@ namespace rbfmuscle {
 /// the class's), badly typed value, missing required property, out-of-range value.
 std::vector<std::unique_ptr<Component>> createComponents(const ModelDocument& document,
                                                          const Registry& registry);
+
+/// Hears each component's initialisation: before it starts (`done` false) and after it
+/// finished (`done` true); `index` is 0-based of `count`.
+using InitProgressFn = std::function<void(const Component& component, int index, int count, bool done)>;
 
 class Model {
  public:
@@ -42,9 +47,11 @@ class Model {
   const std::vector<std::unique_ptr<Component>>& getComponents() const { return components_; }
 
   /// Calls Component::initialize on each component in order; errors are
-  /// prefixed with the component's XML location.
+  /// prefixed with the component's XML location. Checks for an interruption
+  /// (throwIfInterrupted, interrupt.h) before each component.
   /// @param output_directory where components may write files (see InitContext)
-  void initializeComponents(const std::string& output_directory);
+  /// @param progress hears each component start and finish (may be empty)
+  void initializeComponents(const std::string& output_directory, const InitProgressFn& progress = {});
 
  private:
   Model(ModelDocument document, Skeleton skeleton, Motion motion,

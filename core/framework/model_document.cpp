@@ -2,6 +2,8 @@
 
 #include <tinyxml2.h>
 
+#include "io/file_checks.h"
+
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -171,6 +173,13 @@ ModelDocument parseModelDocument(const std::string& xml_text, const std::string&
 }
 
 ModelDocument readModelDocument(const std::string& path) {
+  const std::string problem = io::findInputFileProblem(path, "a model XML file");
+  if (!problem.empty()) throw FrameworkError("model file " + path + ": " + problem);
+  std::error_code ec;
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (!ec && bytes > kMaxModelFileBytes)
+    throw FrameworkError("model file " + path + ": " + std::to_string(bytes) + " bytes, more than the " +
+                         std::to_string(kMaxModelFileBytes) + " a model file may have");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw FrameworkError("model file " + path + ": cannot be read");
   std::ostringstream text;

@@ -22,6 +22,9 @@
 
 namespace rbfmuscle {
 
+/// Largest model file read (bytes): 16 MiB, far above any scene (a few kB).
+inline constexpr unsigned long long kMaxModelFileBytes = 16ull << 20;
+
 /// Model file format version this build reads.
 inline constexpr int kModelFileVersion = 1;
 
@@ -70,7 +73,9 @@ struct ModelDocument {
 };
 
 /// Reads and checks the structure of a model file.
-/// @throws FrameworkError naming the file, line and element: unreadable file,
+/// @throws FrameworkError naming the file, line and element: unreadable file or one
+///   that is not a regular file (a device, FIFO or directory is refused before it is read),
+///   a file over kMaxModelFileBytes,
 ///   XML syntax error, wrong root, missing or unsupported `version`, unknown
 ///   element or attribute, missing `file`/`name` attribute, duplicate or
 ///   invalid component name, duplicate property or socket.

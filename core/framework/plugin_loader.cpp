@@ -1,5 +1,7 @@
 #include "framework/plugin_loader.h"
 
+#include "io/file_checks.h"
+
 #include "framework/framework_error.h"
 
 #include <dlfcn.h>
@@ -40,7 +42,12 @@ std::string PluginLoader::load(const std::string& spec, const std::vector<std::s
   }
   if (path.empty()) {
     std::string tried;
-    for (const auto& candidate : candidates) tried += (tried.empty() ? "" : ", ") + candidate;
+    for (const auto& candidate : candidates) {
+      tried += (tried.empty() ? "" : ", ") + candidate;
+      std::error_code ec;
+      if (fs::exists(candidate, ec))  // there, but a device, FIFO or directory
+        tried += " (" + io::findInputFileProblem(candidate, "a shared library") + ")";
+    }
     throw FrameworkError("plugin " + spec + ": not found (tried: " + tried + ")");
   }
   if (std::find(loaded_.begin(), loaded_.end(), path) != loaded_.end()) return path;

@@ -22,6 +22,13 @@ void ProgressBar::update(int done) {
     }
   } else if (next_quarter_ <= 4 && done * 4 >= next_quarter_ * total_) {
     while (next_quarter_ <= 4 && done * 4 >= next_quarter_ * total_) ++next_quarter_;
+    last_draw_ = now;
+    print(done, true);
+  } else if ((done == 1 && std::chrono::duration<double>(now - start_).count() * (total_ - 1) >=
+                              kEstimateAfterSeconds) ||
+             now - last_draw_ >= std::chrono::seconds(kLogIntervalSeconds)) {
+    // The first frame gives the estimate of a long run; slow runs report regularly.
+    last_draw_ = now;
     print(done, true);
   }
 }

@@ -1,5 +1,6 @@
 #include "framework/simulation.h"
 
+#include "framework/interrupt.h"
 #include "framework/progress_bar.h"
 #include "framework/reporter.h"
 #include "framework/staged_directory.h"
@@ -10,7 +11,10 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <condition_variable>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <thread>
 
 namespace rbfmuscle {
@@ -87,6 +91,56 @@ void writeFrameGeometry(const Model& model, int frame, double time_s, const std:
   }
 }
 
+/// Tells the user about one step that takes long: nothing while it is quick; after
+/// kSlowWorkFirstNoticeSeconds a line "rbfmuscle: still <what>: N s so far", repeated every
+/// kSlowWorkNoticeSeconds, and when it was announced, a closing line with its duration. A run
+/// whose steps are all quick prints nothing, so an error stays the only line on stderr.
+class SlowWorkNotice {
+ public:
+  explicit SlowWorkNotice(std::string what) : what_(std::move(what)), start_(Clock::now()) {
+    thread_ = std::thread([this] { watch(); });
+  }
+  ~SlowWorkNotice() { stop(); }
+  SlowWorkNotice(const SlowWorkNotice&) = delete;
+  SlowWorkNotice& operator=(const SlowWorkNotice&) = delete;
+
+  /// Ends the watch; prints "rbfmuscle: <done> in T s" when the step was announced.
+  void finish(const std::string& done) {
+    stop();
+    if (announced_)
+      std::fprintf(stderr, "rbfmuscle: %s in %.3g s\n", done.c_str(), msSince(start_) / 1000.0);
+  }
+
+ private:
+  void stop() {
+    {
+      std::lock_guard<std::mutex> lock(mutex_);
+      stopped_ = true;
+    }
+    wake_.notify_all();
+    if (thread_.joinable()) thread_.join();
+  }
+  void watch() {
+    std::unique_lock<std::mutex> lock(mutex_);
+    double next_s = kSlowWorkFirstNoticeSeconds;
+    while (!wake_.wait_for(lock, std::chrono::duration<double>(next_s) - (Clock::now() - start_),
+                           [this] { return stopped_; })) {
+      std::fprintf(stderr, "rbfmuscle: still %s: %.0f s so far\n", what_.c_str(), msSince(start_) / 1000.0);
+      std::fflush(stderr);
+      announced_ = true;
+      next_s += kSlowWorkNoticeSeconds;
+    }
+  }
+
+  std::string what_;
+  Clock::time_point start_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopped_ = false;
+  bool announced_ = false;
+  std::thread thread_;
+};
+
 }  // namespace
 
 RunSummary runModel(Model& model, const RunOptions& options) {
@@ -98,7 +152,19 @@ RunSummary runModel(Model& model, const RunOptions& options) {
 
   RunSummary summary;
   auto start = Clock::now();
-  model.initializeComponents(dir);
+  std::unique_ptr<SlowWorkNotice> notice;
+  model.initializeComponents(dir, [&](const Component& component, int index, int count, bool done) {
+    if (!options.show_progress) return;
+    const std::string what = component.getName() + " (" + component.getClassName() + "), component " +
+                             std::to_string(index + 1) + " of " + std::to_string(count);
+    if (!done) {
+      notice = std::make_unique<SlowWorkNotice>("initialising " + what);
+    } else if (notice) {
+      notice->finish("initialised " + what);
+      notice.reset();
+    }
+  });
+  notice.reset();
   summary.initialize_seconds = msSince(start) / 1000.0;
 
   const Motion& motion = model.getMotion();
@@ -127,6 +193,11 @@ RunSummary runModel(Model& model, const RunOptions& options) {
   ProgressBar progress(frames, options.show_progress);
   const auto loop_start = Clock::now();
   for (int frame = 0; frame < frames; ++frame) {
+    throwIfInterrupted();
+    // The first frame may be slow (its cost is unknown until it ends): announce it if it is.
+    std::unique_ptr<SlowWorkNotice> first_frame_notice;
+    if (frame == 0 && options.show_progress)
+      first_frame_notice = std::make_unique<SlowWorkNotice>("computing frame 1 of " + std::to_string(frames));
     const auto frame_start = Clock::now();
     const double time_s = motion.getTime(frame);
     start = Clock::now();
@@ -138,6 +209,7 @@ RunSummary runModel(Model& model, const RunOptions& options) {
     }
     addTime(summary.stages[0], msSince(start));
     const FrameState state(frame, time_s, skeleton.getCoordinateValues(), X_GB, moved, options.write_frame_meshes);
+    throwIfInterrupted();
     // Components of one frame are independent: they update in parallel, each on one thread,
     // so the results do not depend on the thread count. The first error (in document order)
     // is the one reported.
@@ -169,6 +241,7 @@ RunSummary runModel(Model& model, const RunOptions& options) {
       addTime(summary.stages.back(), msSince(start));
     }
     frame_ms.push_back(msSince(frame_start));
+    if (first_frame_notice) first_frame_notice->finish("computed frame 1 of " + std::to_string(frames));
     progress.update(frame + 1);
   }
   progress.finish();
@@ -185,6 +258,7 @@ RunSummary runModel(Model& model, const RunOptions& options) {
   for (const auto& [name, pvd] : series) pvd.write((fs::path(dir) / (name + ".pvd")).string());
   summary.total_seconds = options.load_seconds + msSince(run_start) / 1000.0;
   writeSummaryJson((fs::path(dir) / "summary.json").string(), model, summary, options.load_seconds);
+  throwIfInterrupted();
   outdir.commit();
   return summary;
 }

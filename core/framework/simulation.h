@@ -13,10 +13,19 @@
 
 namespace rbfmuscle {
 
+/// A component's initialisation that takes longer than this is announced on stderr (s).
+inline constexpr double kSlowWorkFirstNoticeSeconds = 5.0;
+/// ... and again every so many seconds until it ends (s).
+inline constexpr double kSlowWorkNoticeSeconds = 30.0;
+
 struct RunOptions {
   std::string output_directory;     ///< OUTDIR
   bool write_frame_meshes = false;  ///< --frames-mesh
-  bool show_progress = true;        ///< progress on stderr
+  /// progress on stderr: a component initialisation or a first frame longer than
+  /// kSlowWorkFirstNoticeSeconds is announced (and repeated every kSlowWorkNoticeSeconds), and
+  /// the frame loop shows frame i/N with the estimated time left from the first frame on
+  /// (ProgressBar)
+  bool show_progress = true;
   double load_seconds = 0.0;        ///< time the caller spent loading plugins and model (reported)
 };
 

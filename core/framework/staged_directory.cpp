@@ -32,10 +32,12 @@ StagedDirectory::StagedDirectory(std::string target) : target_(std::move(target)
   if (!fs::create_directory(staging_, ec) || ec)
     throw FrameworkError("output directory " + target_ + ": cannot create " + staging_ + ": " +
                          ec.message());
+  cleanup_ = std::make_unique<InterruptCleanup>(staging_);
 }
 
 StagedDirectory::~StagedDirectory() {
   if (committed_) return;
+  if (isInterruptRequested() && isKeepPartialRequested()) return;
   std::error_code ec;
   fs::remove_all(staging_, ec);
 }

@@ -3,8 +3,13 @@
 /// Output directory written all-or-nothing: files go to a staging directory
 /// beside the target (`OUTDIR.partial-PID`), which commit() renames to OUTDIR.
 /// Without commit() (an exception) the staging directory is removed, so a
-/// failed run never leaves OUTDIR created or half-written.
+/// failed run never leaves OUTDIR created or half-written. The staging directory is also
+/// registered with InterruptCleanup, so a run ended by SIGINT or SIGTERM removes it too; with
+/// --keep-partial (isKeepPartialRequested) an interrupted run keeps it for inspection.
+#include <memory>
 #include <string>
+
+#include "framework/interrupt.h"
 
 namespace rbfmuscle {
 
@@ -17,7 +22,7 @@ class StagedDirectory {
   explicit StagedDirectory(std::string target);
   StagedDirectory(const StagedDirectory&) = delete;
   StagedDirectory& operator=(const StagedDirectory&) = delete;
-  /// Removes the staging directory unless committed.
+  /// Removes the staging directory unless committed (or interrupted with --keep-partial).
   ~StagedDirectory();
 
   /// Where to write now.
@@ -31,6 +36,7 @@ class StagedDirectory {
   std::string target_path_;  ///< absolute, normalized, no trailing '/'
   std::string staging_;
   bool committed_ = false;
+  std::unique_ptr<InterruptCleanup> cleanup_;
 };
 
 }  // namespace rbfmuscle

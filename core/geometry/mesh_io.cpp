@@ -1,6 +1,7 @@
 #include "geometry/mesh_io.h"
 
 #include "geometry/ply_reader.h"
+#include "io/file_checks.h"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -152,12 +153,14 @@ std::string LoadedMesh::describeDefects(const std::string& path) const {
 }
 
 LoadedMesh readMesh(const std::string& path) {
+  io::requireRegularFile<MeshError>(path, "a mesh file");
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw MeshError(path + ": cannot open mesh file (missing or unreadable)");
   }
   const RawMesh raw = hasPlyExtension(path) ? readPlyRaw(path) : readAssimpRaw(path);
   if (raw.triangles.empty()) throw MeshError(path + ": mesh contains no triangles");
+  Eigen::AlignedBox3d box;
   for (const auto& t : raw.triangles)
     for (int v : t) {
       const Point& p = raw.vertices[static_cast<std::size_t>(v)];
@@ -167,7 +170,23 @@ LoadedMesh readMesh(const std::string& path) {
             << ", " << p[2] << ")";
         throw MeshError(msg.str());
       }
+      if (std::abs(p[0]) > kMaxMeshCoordinate || std::abs(p[1]) > kMaxMeshCoordinate ||
+          std::abs(p[2]) > kMaxMeshCoordinate) {
+        std::ostringstream msg;
+        msg << path << ": vertex " << v << " (" << p[0] << ", " << p[1] << ", " << p[2]
+            << ") has a coordinate of magnitude above " << kMaxMeshCoordinate
+            << " (wrong units or a corrupt file?)";
+        throw MeshError(msg.str());
+      }
+      box.extend(Eigen::Vector3d(p[0], p[1], p[2]));
     }
+  const double extent = box.sizes().maxCoeff();
+  if (!(extent >= kMinMeshExtent)) {
+    std::ostringstream msg;
+    msg << path << ": the mesh spans only " << extent << " (largest side of its bounding box), less than "
+        << kMinMeshExtent << " (wrong units or a collapsed mesh?)";
+    throw MeshError(msg.str());
+  }
   LoadedMesh loaded;
   loaded.mesh = weld(raw, loaded.unused_vertices);
   loaded.repair = repairMesh(loaded.mesh);
@@ -222,6 +241,7 @@ void writePly(const std::string& path, const TriangleMesh& mesh) {
 }
 
 std::string hashFile(const std::string& path) {
+  io::requireRegularFile<MeshError>(path, "a file to hash");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MeshError(path + ": cannot open file to hash (missing or unreadable)");
   std::uint64_t hash = 0xcbf29ce484222325ull;

@@ -11,6 +11,18 @@
 
 namespace rbfmuscle {
 
+/// Largest coordinate magnitude a mesh file may hold, in its own units: 1e6. The project's
+/// meshes are in mm (a muscle or bone spans under 1e3 mm, CT frames sit within 1e3 mm of
+/// their origin) or in metres (bones in a URDF); 1e6 leaves room for µm and for far origins,
+/// and beyond it a file has wrong units or is corrupt. Squared distances stay exact enough
+/// in double precision up to it.
+constexpr double kMaxMeshCoordinate = 1e6;
+
+/// Smallest extent (largest side of the bounding box) a mesh file may have, in its own
+/// units: 1e-6, i.e. 1 nm in mm or 1 µm in metres. A smaller mesh is collapsed or in wrong
+/// units; no fit or contact tolerance of the project could resolve it.
+constexpr double kMinMeshExtent = 1e-6;
+
 /// A mesh file as loadMesh returns it, with what was dropped and repaired on the way.
 struct LoadedMesh {
   TriangleMesh mesh;         ///< welded and repaired (mm, as stored).
@@ -32,8 +44,11 @@ struct LoadedMesh {
 /// those defects and no unused vertices is returned exactly as stored. Coordinates are taken as millimetres as stored.
 /// Open or otherwise unusable meshes are returned as they are: use loadSolidMesh for a mesh
 /// that must bound a solid.
-/// @throws MeshError naming `path` when the file is missing or unreadable, assimp fails
-///         (assimp's message included), there are no triangles, or a coordinate is not finite.
+/// @throws MeshError naming `path` when the file is missing or unreadable or not a regular file
+///         (devices, FIFOs and directories are refused before they are read), assimp fails
+///         (assimp's message included), there are no triangles, a coordinate used by a triangle
+///         is not finite or of magnitude above kMaxMeshCoordinate, or the mesh spans less than
+///         kMinMeshExtent.
 LoadedMesh readMesh(const std::string& path);
 
 /// readMesh, passing the warning (LoadedMesh::describeDefects) to `warn` when the file had
@@ -51,7 +66,7 @@ void writePly(const std::string& path, const TriangleMesh& mesh);
 
 /// 64-bit FNV-1a hash of the file's bytes as 16 lowercase hex digits
 /// (offset basis 0xcbf29ce484222325, prime 0x100000001b3).
-/// @throws MeshError naming `path` when the file cannot be read.
+/// @throws MeshError naming `path` when the file cannot be read or is not a regular file.
 std::string hashFile(const std::string& path);
 
 }  // namespace rbfmuscle

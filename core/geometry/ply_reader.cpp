@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "geometry/mesh_error.h"
+#include "io/file_checks.h"
 
 namespace rbfmuscle::detail {
 namespace {
@@ -93,9 +94,51 @@ class BodyReader {
   Format format_;
 };
 
+/// Fewest bytes one record of `e` takes in the data section: binary, the sizes of its
+/// scalars and list counts (a list may be empty); ASCII, two characters per value and count
+/// (a digit and a separator).
+std::uintmax_t minRecordBytes(const Element& e, Format format) {
+  std::uintmax_t bytes = 0;
+  for (const Property& p : e.properties)
+    bytes += format == Format::Ascii ? 2 : static_cast<std::uintmax_t>(sizeOf(p.count_type.empty() ? p.type : p.count_type));
+  return bytes;
+}
+
+/// Refuses element counts the file cannot hold, before anything is allocated for them.
+void checkCountsFitFile(const std::string& path, const std::vector<Element>& elements, Format format,
+                        std::uintmax_t data_bytes) {
+  std::uintmax_t left = data_bytes;
+  bool has_vertex = false;
+  for (const Element& e : elements) {
+    if (e.name == "vertex") {
+      has_vertex = true;
+      bool axis[3] = {false, false, false};
+      for (const Property& p : e.properties)
+        if (p.count_type.empty() && p.name.size() == 1 && p.name[0] >= 'x' && p.name[0] <= 'z') axis[p.name[0] - 'x'] = true;
+      if (!(axis[0] && axis[1] && axis[2]))
+        throw MeshError(path + ": PLY element 'vertex' lacks scalar properties x, y and z");
+    }
+    if (e.count == 0) continue;
+    const std::uintmax_t each = minRecordBytes(e, format);
+    if (each == 0)
+      throw MeshError(path + ": PLY element '" + e.name + "' declares " + std::to_string(e.count) +
+                      " records but has no properties");
+    if (!io::countFitsInBytes(e.count, each, left))
+      throw MeshError(path + ": PLY header declares " + std::to_string(e.count) + " '" + e.name +
+                      "' records of at least " + std::to_string(each) + " bytes each, but only " +
+                      std::to_string(left) + " bytes of data are left in the file (truncated file or wrong count)");
+    left -= static_cast<std::uintmax_t>(e.count) * each;
+  }
+  if (!has_vertex) throw MeshError(path + ": PLY header has no 'vertex' element");
+}
+
 }  // namespace
 
 PlyContent readPly(const std::string& path) {
+  const std::uintmax_t file_bytes = io::requireRegularFile<MeshError>(path, "a PLY mesh file");
+  if (file_bytes > kMaxPlyFileBytes)
+    throw MeshError(path + ": PLY file of " + std::to_string(file_bytes) + " bytes, more than the " +
+                    std::to_string(kMaxPlyFileBytes) + " this reader accepts");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MeshError(path + ": cannot open mesh file (missing or unreadable)");
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -131,7 +174,13 @@ PlyContent readPly(const std::string& path) {
       has_format = true;
     } else if (key == "element") {
       Element e;
-      if (!(words >> e.name >> e.count) || e.count < 0) throw bad("expected 'element NAME COUNT'");
+      std::string count_text, extra;
+      if (!(words >> e.name >> count_text) || (words >> extra)) throw bad("expected 'element NAME COUNT'");
+      char* end = nullptr;
+      e.count = std::strtoll(count_text.c_str(), &end, 10);
+      if (*end != '\0' || e.count < 0 || e.count > kMaxPlyElementCount)
+        throw bad("expected a whole number of records from 0 to " + std::to_string(kMaxPlyElementCount) +
+                  ", got '" + count_text + "'");
       elements.push_back(e);
     } else if (key == "property") {
       if (elements.empty()) throw bad("property before any element");
@@ -150,6 +199,7 @@ PlyContent readPly(const std::string& path) {
     }
   }
   if (!has_format) throw MeshError(path + ": PLY header has no format line");
+  checkCountsFitFile(path, elements, format, data.size() - pos);
 
   PlyContent content;
   BodyReader body(path, data, pos, format);
@@ -168,9 +218,10 @@ PlyContent readPly(const std::string& path) {
         if (!(count >= 0)) throw MeshError(path + ": PLY list with negative length");
         const bool indices = is_face && (p.name == "vertex_indices" || p.name == "vertex_index");
         std::vector<int> face;
-        for (int k = 0; k < int(count); ++k) {
+        for (double k = 0; k < count; ++k) {  // each read consumes data, so this ends with the file
           const double index = body.read(p.type);
-          if (indices) face.push_back(int(index));
+          // Out-of-range values become -1, refused below with the face named.
+          if (indices) face.push_back(index >= 0 && index <= 2147483647.0 ? int(index) : -1);
         }
         if (indices) content.faces.push_back(std::move(face));
       }

@@ -8,8 +8,10 @@
 #include <string>
 
 #include "fit/fit_pipeline.h"
+#include "framework/interrupt.h"
 #include "geometry/mesh_io.h"
 #include "host_commands.h"
+#include "io/file_checks.h"
 
 namespace rbfmuscle {
 namespace {
@@ -66,6 +68,10 @@ std::vector<double> parseList(const std::string& option, const std::string& text
 
 /// Fails before a long fit when the output cannot be written.
 void checkWritable(const std::string& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) == 0 && !S_ISREG(info.st_mode))
+    throw std::runtime_error(path + ": output exists and is " + io::describeFileType(info.st_mode) +
+                             "; refusing to replace it (give a regular file name)");
   const std::string probe = path + ".partial";
   std::ofstream out(probe);
   if (!out) throw std::runtime_error(path + ": cannot write here (does the directory exist?)");
@@ -126,10 +132,26 @@ int runFitCommand(int argc, char** argv) {
   if (!(settings.surface_cell_mm > 0)) throw UsageError("fit: --cell-mm must be > 0");
   if (!search.empty() && search.size() != 3)
     throw UsageError("fit: --global-search expects LO,HI,K");
+  // An output never replaces an input or another output (the same file by device and inode,
+  // or the same path when it does not exist yet).
+  if (io::isSameFile(output_path, mesh_path))
+    throw UsageError("fit: -o " + output_path + " is the input mesh " + mesh_path +
+                     "; refusing to overwrite it (choose another output file)");
+  if (!surface_path.empty() && io::isSameFile(surface_path, mesh_path))
+    throw UsageError("fit: --surface " + surface_path + " is the input mesh " + mesh_path +
+                     "; refusing to overwrite it (choose another output file)");
+  if (!surface_path.empty() && io::isSameFile(surface_path, output_path))
+    throw UsageError("fit: --surface " + surface_path + " and -o " + output_path +
+                     " are the same file; give two different files");
+  {
+    const std::string problem = io::findInputFileProblem(mesh_path, "a mesh file");
+    if (!problem.empty()) throw std::runtime_error(mesh_path + ": " + problem);
+  }
   checkWritable(output_path);
   if (!surface_path.empty()) checkWritable(surface_path);
 
   const FitProgressFn progress = [quiet](const FitProgress& p) {
+    throwIfInterrupted();  // SIGINT / SIGTERM: stop after this round, nothing written
     if (quiet) return;
     std::fprintf(stderr, "\rfit: round %4d  centres %6d/%d  rms surface %.4f mm  rms all %.4f mm   ",
                  p.round, p.centres, p.max_centres, p.rms_surface_mm, p.rms_all_mm);

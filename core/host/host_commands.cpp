@@ -6,6 +6,7 @@
 #include "framework/registry.h"
 #include "framework/simulation.h"
 #include "host/model_overrides.h"
+#include "io/file_checks.h"
 
 #include <unistd.h>
 
@@ -21,7 +22,7 @@ namespace fs = std::filesystem;
 
 const char* const kRunHelp =
     "usage: rbfmuscle run MODEL.xml -o OUTDIR [-L PLUGIN]... [--set C.P=V]... [--motion FILE]\n"
-    "                     [--frames-mesh] [--quiet]\n"
+    "                     [--frames-mesh] [--quiet] [--keep-partial]\n"
     "\n"
     "Loads the plugins, builds the model from MODEL.xml, steps through its motion\n"
     "and writes, all or nothing (a failed run leaves OUTDIR untouched):\n"
@@ -29,7 +30,8 @@ const char* const kRunHelp =
     "  OUTDIR/summary.json              frames, wall time per frame and per stage, and\n"
     "                                   median and max of each reported *_ms output\n"
     "  OUTDIR/NAME.pvd, meshes/*.vtp    per-frame component geometry (--frames-mesh)\n"
-    "An existing OUTDIR is replaced only when it is an earlier rbfmuscle output.\n"
+    "An existing OUTDIR is replaced only when it is an earlier rbfmuscle output, and\n"
+    "never when it holds the model, its directory, the skeleton or the motion.\n"
     "\n"
     "options:\n"
     "  -o, --output OUTDIR  output directory (required)\n"
@@ -41,6 +43,8 @@ const char* const kRunHelp =
     "                       the current directory)\n"
     "  --frames-mesh        write each component's geometry per frame\n"
     "  --quiet              no progress on stderr\n"
+    "  --keep-partial       when stopped by SIGINT (Ctrl-C) or SIGTERM, keep OUTDIR.partial-PID\n"
+    "                       (by default it is removed; the exit code is 130 or 143)\n"
     "  -h, --help           this text\n";
 
 const char* const kInfoHelp =
@@ -102,6 +106,8 @@ CommandLine parseCommandLine(const std::vector<std::string>& args, bool with_run
       line.frames_mesh = true;
     } else if (with_run && a == "--quiet") {
       line.quiet = true;
+    } else if (with_run && a == "--keep-partial") {
+      // read by main() before any thread starts (installInterruptHandling)
     } else if (!a.empty() && a[0] == '-') {
       throw UsageError("unknown option '" + a + "'");
     } else {
@@ -152,6 +158,15 @@ int runCommand(const std::vector<std::string>& args) {
   ModelDocument document = readModelDocument(line.positional[0]);
   for (const std::string& assignment : line.overrides) applyPropertyOverride(document, assignment);
   if (!line.motion.empty()) overrideMotion(document, line.motion);
+  // OUTDIR is replaced as a whole when the run succeeds: it may not hold an input.
+  const std::pair<const char*, std::string> inputs[] = {{"model file", document.path},
+                                                         {"model directory", document.directory},
+                                                         {"skeleton", document.skeleton.path},
+                                                         {"motion", document.motion.path}};
+  for (const auto& [what, path] : inputs)
+    if (io::isSameOrInside(path, line.output))
+      throw UsageError("run: -o " + line.output + " holds the " + what + " " + path +
+                       "; OUTDIR is replaced as a whole, so it may not hold an input (choose another OUTDIR)");
   loadPlugins(line.plugins, document.directory, loader, registry);
   for (const FileReference& plugin : document.plugins) {
     try {

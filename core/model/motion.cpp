@@ -1,6 +1,7 @@
 #include "model/motion.h"
 
 #include <cmath>
+#include <sstream>
 
 #include "model/skeleton.h"
 #include "model/storage_file.h"
@@ -42,7 +43,18 @@ Motion Motion::fromFile(const std::string& path, const Skeleton& skeleton) {
       if (!std::isfinite(row[c]))
         throw ModelError("motion " + path + ": frame " + std::to_string(r) + ", column '" +
                          labels[c] + "' holds a non-finite value (" + std::to_string(row[c]) + ")");
-      if (column_to_q[c] >= 0) q[column_to_q[c]] = to_rad * row[c];
+      if (column_to_q[c] >= 0) {
+        q[column_to_q[c]] = to_rad * row[c];
+        if (std::abs(q[column_to_q[c]]) > kMaxCoordinate_rad) {
+          std::ostringstream text;
+          text << "motion " << path << ": line "
+               << (r < table.row_lines.size() ? table.row_lines[r] : 0) << " (frame " << r << "), column '"
+               << labels[c] << "': " << row[c] << (table.in_degrees ? " deg" : " rad") << " exceeds the "
+               << kMaxCoordinate_rad << " rad a coordinate may take (inDegrees="
+               << (table.in_degrees ? "yes" : "no") << "; wrong units?)";
+          throw ModelError(text.str());
+        }
+      }
     }
     if (r > 0 && !(row[0] > m.times_s_.back()))
       throw ModelError("motion " + path + ": frame " + std::to_string(r) + " has time " +

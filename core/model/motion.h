@@ -11,13 +11,20 @@ namespace rbfmuscle {
 
 class Skeleton;
 
+/// Largest coordinate magnitude a motion may hold: 1e4 rad (about 1600 turns). A joint angle
+/// of a human motion stays within a turn; far beyond, a value is in wrong units or corrupt,
+/// and angles of 1e10 rad or more lose all precision in sin and cos and made runs hang.
+inline constexpr double kMaxCoordinate_rad = 1e4;
+
 /// Coordinate values per frame, in the skeleton's coordinate order, in rad.
 /// Coordinates the file does not mention stay at 0.
 class Motion {
  public:
   /// Reads `path` and maps its columns onto `skeleton`'s coordinates.
   /// @throws ModelError naming the file and the column for a coordinate the
-  ///   skeleton does not have, or for a file without frames.
+  ///   skeleton does not have, or for a file without frames; naming the file, line, frame and
+  ///   column for a value that is not finite or whose magnitude exceeds kMaxCoordinate_rad
+  ///   (after conversion from degrees), or a time that does not increase.
   static Motion fromFile(const std::string& path, const Skeleton& skeleton);
 
   int getNumFrames() const { return static_cast<int>(times_s_.size()); }

@@ -6,10 +6,13 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <set>
 #include <sstream>
+
+#include "io/file_checks.h"
 
 namespace rbfmuscle {
 namespace {
@@ -119,6 +122,15 @@ int StorageTable::findColumn(const std::string& label) const {
 }
 
 StorageTable readStorage(const std::string& path) {
+  {
+    const std::string problem = io::findInputFileProblem(path, "a storage file (.sto/.mot)");
+    if (!problem.empty()) fail(path, 0, problem.rfind("is ", 0) == 0 ? "it " + problem : problem);
+    std::error_code ec;
+    const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (!ec && bytes > kMaxStorageFileBytes)
+      fail(path, 0, std::to_string(bytes) + " bytes, more than the " + std::to_string(kMaxStorageFileBytes) +
+                        " a storage file may have");
+  }
   std::ifstream in(path);
   if (!in) fail(path, 0, "cannot open it for reading (missing or unreadable)");
 
@@ -204,6 +216,7 @@ StorageTable readStorage(const std::string& path) {
            "row has " + std::to_string(row.size()) + " values, expected " +
                std::to_string(width) + " (one per column label)");
     table.rows.push_back(std::move(row));
+    table.row_lines.push_back(line_no);
   }
   if (n_rows >= 0 && static_cast<std::size_t>(n_rows) != table.rows.size())
     fail(path, n_rows_line,

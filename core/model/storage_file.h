@@ -16,14 +16,19 @@ struct StorageTable {
   bool in_degrees = false;                  ///< header `inDegrees=yes|no`
   std::vector<std::string> column_labels;   ///< column_labels[0] == "time"
   std::vector<std::vector<double>> rows;    ///< each row has column_labels.size() values
+  std::vector<int> row_lines;               ///< 1-based file line of each row (readStorage; may be empty)
 
   /// Index of a column, or -1 when there is none of that label.
   int findColumn(const std::string& label) const;
 };
 
+/// Largest storage file read (bytes): 1 GiB, a million frames of a hundred coordinates.
+constexpr unsigned long long kMaxStorageFileBytes = 1ull << 30;
+
 /// Reads a .sto/.mot file. @throws ModelError naming the file and line for a
-/// missing file, a missing `endheader`, a row of the wrong length or a value
-/// that is not a number.
+/// missing file or one that is not a regular file (a device, FIFO or directory is refused
+/// before it is read), a file over kMaxStorageFileBytes, a missing `endheader`, a row of the
+/// wrong length or a value that is not a number.
 StorageTable readStorage(const std::string& path);
 
 /// Writes a .sto file (OpenSim storage version 1). Writes to a temporary file

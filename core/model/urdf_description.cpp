@@ -4,9 +4,14 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <sstream>
+
+#include "io/file_checks.h"
 
 namespace rbfmuscle::detail {
 namespace {
@@ -31,6 +36,29 @@ class CaptureLog : public console_bridge::OutputHandler {
  private:
   std::string text_;
 };
+
+std::string where(const std::string& urdf_path, const std::string& what);
+
+std::string formatNumber(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
+/// Refuses a pose whose numbers are not finite or whose translation is implausible.
+void checkPose(const std::string& urdf_path, const urdf::Pose& pose, const std::string& owner) {
+  double x, y, z, w;
+  pose.rotation.getQuaternion(x, y, z, w);
+  const double p[3] = {pose.position.x, pose.position.y, pose.position.z};
+  for (double v : p)
+    if (!std::isfinite(v) || std::abs(v) > kMaxUrdfTranslation_m)
+      throw ModelError(where(urdf_path, owner + ": origin xyz " + formatNumber(p[0]) + " " + formatNumber(p[1]) +
+                                            " " + formatNumber(p[2]) + " m: expected finite values of magnitude at most " +
+                                            formatNumber(kMaxUrdfTranslation_m) + " m"));
+  if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(w) ||
+      !(x * x + y * y + z * z + w * w > 0))
+    throw ModelError(where(urdf_path, owner + ": origin rpy is not a finite rotation"));
+}
 
 Eigen::Isometry3d toIsometry_mm(const urdf::Pose& pose) {
   double x, y, z, w;
@@ -67,6 +95,16 @@ void addMesh(const std::string& urdf_path, const std::string& link, const urdf::
              const urdf::GeometrySharedPtr& geometry, bool collision, std::vector<BodyMesh>& out) {
   if (!geometry || geometry->type != urdf::Geometry::MESH) return;  // primitives are not bone meshes
   const auto& mesh = static_cast<const urdf::Mesh&>(*geometry);
+  const double scale[3] = {mesh.scale.x, mesh.scale.y, mesh.scale.z};
+  for (double v : scale)
+    if (!std::isfinite(v) || !(v >= kMinUrdfMeshScale && v <= kMaxUrdfMeshScale))
+      throw ModelError(where(urdf_path, "link '" + link + "': mesh '" + mesh.filename + "' has scale " +
+                                            formatNumber(scale[0]) + " " + formatNumber(scale[1]) + " " +
+                                            formatNumber(scale[2]) + ": expected each factor from " +
+                                            formatNumber(kMinUrdfMeshScale) + " to " + formatNumber(kMaxUrdfMeshScale) +
+                                            " (metres per mesh unit; 0.001 for a mesh in mm; a negative factor "
+                                            "would mirror the bone and turn it inside out)"));
+  checkPose(urdf_path, origin, "link '" + link + "': mesh '" + mesh.filename + "'");
   BodyMesh m;
   m.path = resolveMeshPath(urdf_path, link, mesh.filename);
   m.X_BM = toIsometry_mm(origin);
@@ -82,6 +120,10 @@ void readInertial(const urdf::Link& in, UrdfLink& out) {
     return;
   }
   const urdf::Inertial& i = *in.inertial;
+  const double values[] = {i.mass, i.ixx, i.ixy, i.ixz, i.iyy, i.iyz, i.izz};
+  for (double v : values)
+    if (!std::isfinite(v))
+      throw ModelError("link '" + in.name + "': <inertial> holds a non-finite mass or inertia");
   out.mass_kg = i.mass;
   const Eigen::Isometry3d X_BC = toIsometry_mm(i.origin);
   Eigen::Matrix3d I_C;  // about the mass centre, in the inertial frame C, kg·m²
@@ -99,6 +141,7 @@ void addLink(const std::string& urdf_path, const urdf::Link& link, int parent,
   l.name = link.name;
   l.parent = parent;
   if (joint) {
+    checkPose(urdf_path, joint->parent_to_joint_origin_transform, "joint '" + joint->name + "'");
     l.joint_name = joint->name;
     l.X_PJ = toIsometry_mm(joint->parent_to_joint_origin_transform);
     switch (joint->type) {
@@ -109,6 +152,8 @@ void addLink(const std::string& urdf_path, const urdf::Link& link, int parent,
       case urdf::Joint::CONTINUOUS: {
         l.joint_kind = UrdfJointKind::kRevolute;
         const Eigen::Vector3d a(joint->axis.x, joint->axis.y, joint->axis.z);
+        if (!a.allFinite())
+          throw ModelError(where(urdf_path, "joint '" + joint->name + "' has a non-finite axis"));
         if (!(a.norm() > 1e-12))
           throw ModelError(where(urdf_path, "joint '" + joint->name + "' has a zero axis"));
         l.axis_J = a.normalized();
@@ -125,7 +170,11 @@ void addLink(const std::string& urdf_path, const urdf::Link& link, int parent,
       }
     }
   }
-  readInertial(link, l);
+  try {
+    readInertial(link, l);
+  } catch (const ModelError& e) {
+    throw ModelError(where(urdf_path, e.what()));
+  }
   for (const auto& v : link.visual_array)
     if (v) addMesh(urdf_path, link.name, v->origin, v->geometry, false, l.meshes);
   for (const auto& c : link.collision_array)
@@ -144,9 +193,55 @@ void addLink(const std::string& urdf_path, const urdf::Link& link, int parent,
   }
 }
 
+/// Refuses what urdfdom accepts but a kinematic tree cannot be: a link that is the child of
+/// two or more joints (a closed loop; following it never ends), and links that cannot be
+/// reached from the root (a cycle apart from it). Names the links and joints.
+void checkTree(const std::string& urdf_path, const urdf::ModelInterface& model) {
+  std::map<std::string, std::vector<const urdf::Joint*>> parents;
+  for (const auto& [name, joint] : model.joints_)
+    if (joint) parents[joint->child_link_name].push_back(joint.get());
+  for (const auto& [child, joints] : parents) {
+    if (joints.size() < 2) continue;
+    std::string list;
+    for (const urdf::Joint* j : joints)
+      list += (list.empty() ? "" : ", ") + ("'" + j->name + "' from link '" + j->parent_link_name + "'");
+    throw ModelError(where(urdf_path, "link '" + child + "' has " + std::to_string(joints.size()) +
+                                          " parent joints (" + list +
+                                          "); the links must form a tree, each link the child of at most one joint "
+                                          "(a closed kinematic loop is not supported)"));
+  }
+  if (model.links_.size() > kMaxUrdfLinks)
+    throw ModelError(where(urdf_path, std::to_string(model.links_.size()) + " links, more than the " +
+                                          std::to_string(kMaxUrdfLinks) + " a skeleton may have"));
+  std::set<std::string> reached;
+  std::vector<const urdf::Link*> stack = {model.getRoot().get()};
+  while (!stack.empty() && reached.size() <= model.links_.size()) {  // each link is pushed at most once
+    const urdf::Link* link = stack.back();
+    stack.pop_back();
+    if (!reached.insert(link->name).second) continue;
+    for (const auto& joint : link->child_joints) {
+      const auto child = model.links_.find(joint->child_link_name);
+      if (child != model.links_.end() && child->second && reached.count(child->first) == 0)
+        stack.push_back(child->second.get());
+    }
+  }
+  for (const auto& [name, link] : model.links_)
+    if (reached.count(name) == 0)
+      throw ModelError(where(urdf_path, "link '" + name + "' is not connected to the root link '" +
+                                            model.getRoot()->name +
+                                            "' (its joints form a loop apart from the tree, or it has no parent joint)"));
+}
+
 }  // namespace
 
 UrdfDescription readUrdf(const std::string& path) {
+  const std::string problem = io::findInputFileProblem(path, "a URDF file");
+  if (!problem.empty()) throw ModelError(where(path, problem));
+  std::error_code ec;
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (bytes > kMaxUrdfFileBytes)
+    throw ModelError(where(path, std::to_string(bytes) + " bytes, more than the " + std::to_string(kMaxUrdfFileBytes) +
+                                     " a URDF file may have"));
   std::ifstream in(path);
   if (!in) throw ModelError(where(path, "cannot open the file (missing or unreadable)"));
   std::stringstream text;
@@ -166,6 +261,7 @@ UrdfDescription readUrdf(const std::string& path) {
   if (!model || !model->getRoot())
     throw ModelError(where(path, "urdfdom could not parse it" + (log.empty() ? "" : ": " + log)));
 
+  checkTree(path, *model);
   UrdfDescription d;
   d.name = model->getName();
   d.path = path;

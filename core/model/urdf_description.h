@@ -4,6 +4,7 @@
 /// already in mm, so that the Simbody builder never sees urdf:: types.
 #include <Eigen/Geometry>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -44,10 +45,26 @@ struct UrdfDescription {
 /// origin is then kDefaultLinkMass_kg × 1 mm² × identity.
 inline constexpr double kDefaultLinkMass_kg = 1e-6;
 
+/// Bounds readUrdf puts on a URDF. A human skeleton has tens of links, spans about 2 m and
+/// its meshes are in metres (scale 1) or mm (scale 0.001):
+/// - at most 1000 links;
+inline constexpr std::size_t kMaxUrdfLinks = 1000;
+/// - origins (joints, meshes) within 1000 m of their parent frame;
+inline constexpr double kMaxUrdfTranslation_m = 1000.0;
+/// - mesh scale factors from 1e-6 to 1e6 (0 collapses a bone, a negative factor mirrors it
+///   inside out: both are refused here, not later as a geometry problem);
+inline constexpr double kMinUrdfMeshScale = 1e-6;
+inline constexpr double kMaxUrdfMeshScale = 1e6;
+/// - files of at most 64 MiB.
+inline constexpr std::uintmax_t kMaxUrdfFileBytes = 64ull << 20;
+
 /// Reads and checks a URDF file. Lengths m → mm; mesh paths resolved relative
 /// to the URDF file's directory.
-/// @throws ModelError naming the file for a missing or unparsable file, a joint
-///   of unsupported type, a zero axis, or a mesh that does not exist.
+/// @throws ModelError naming the file for a missing or unparsable file or one that is not a
+///   regular file, a link with two or more parent joints (naming the link and the joints), a
+///   link not connected to the root, a joint of unsupported type, a zero or non-finite axis,
+///   a non-finite or implausible origin, mass or inertia, a mesh scale outside the bounds
+///   above, or a mesh that does not exist.
 UrdfDescription readUrdf(const std::string& path);
 
 }  // namespace rbfmuscle::detail

@@ -112,5 +112,140 @@ TEST(FitCommand, UnwritableOutputFailsBeforeFitting) {
   EXPECT_NE(r.err.find("/nonexistent_dir/x.rbf: cannot write"), std::string::npos) << r.err;
 }
 
+/// Options that suit the 1 mm tetrahedron (as scripts/fit_table.sh fits it).
+const std::string kTetrahedronOptions =
+    " --centres 30 --clamp-mm 0.1 --normal-offset-mm 0.02 --cell-mm 0.02 --shapes 5,10,20,50,100,200,500,1000"
+    " --halton 4000 --metric-points 100000 --quiet";
+
+/// The tetrahedron of models/shapes (1 mm) written `copies` times, copy k shifted by k·shift_mm in x.
+TriangleMesh tetrahedra(int copies, double shift_mm) {
+  const TriangleMesh one = loadMesh(kShapes + "tetrahedron.ply");
+  TriangleMesh all;
+  all.vertices_mm.resize(3, one.countVertices() * copies);
+  all.triangles.resize(3, one.countTriangles() * copies);
+  for (int k = 0; k < copies; ++k) {
+    all.vertices_mm.middleCols(k * one.countVertices(), one.countVertices()) =
+        one.vertices_mm.colwise() + Eigen::Vector3d(k * shift_mm, 0, 0);
+    all.triangles.middleCols(k * one.countTriangles(), one.countTriangles()) =
+        one.triangles.array() + k * one.countVertices();
+  }
+  return all;
+}
+
+std::string fileBytes(const fs::path& path) { return test::readText(path); }
+
+TEST(FitCommand, OutputThatIsTheInputMeshIsRefusedAndTheMeshKept) {
+  // `fit MESH -o MESH` used to overwrite the mesh with the .rbf and exit 0.
+  const fs::path dir = outDir("output_is_input");
+  const fs::path mesh = dir / "tet.ply";
+  fs::copy_file(kShapes + "tetrahedron.ply", mesh);
+  const std::string before = fileBytes(mesh);
+  HostResult r = runFit(mesh.string() + " -o " + mesh.string() + kTetrahedronOptions, "output_is_input");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("rbfmuscle: error: fit: -o " + mesh.string() + " is the input mesh " + mesh.string() +
+                       "; refusing to overwrite it"),
+            std::string::npos)
+      << r.err;
+  // The same file under another name: a hard link and a path with '..' in it.
+  fs::create_hard_link(mesh, dir / "link.ply");
+  r = runFit(mesh.string() + " -o " + (dir / "link.ply").string() + kTetrahedronOptions, "output_is_input_link");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("is the input mesh"), std::string::npos) << r.err;
+  r = runFit(mesh.string() + " -o x.rbf --surface " + (dir / ".." / dir.filename() / "tet.ply").string() +
+                 kTetrahedronOptions,
+             "output_is_input_surface");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("fit: --surface"), std::string::npos) << r.err;
+  EXPECT_EQ(fileBytes(mesh), before);
+  EXPECT_EQ(fileBytes(dir / "link.ply"), before);
+}
+
+TEST(FitCommand, SurfaceAndOutputTheSameFileAreRefused) {
+  // `-o X.rbf --surface X.rbf` used to leave a PLY where the .rbf should be.
+  const fs::path dir = outDir("surface_is_output");
+  const std::string out = (dir / "x.rbf").string();
+  const HostResult r = runFit(kShapes + "tetrahedron.ply -o " + out + " --surface " + out + kTetrahedronOptions,
+                              "surface_is_output");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("fit: --surface " + out + " and -o " + out + " are the same file"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(out));
+}
+
+TEST(FitCommand, OutputThatIsADeviceIsNotReplaced) {
+  const HostResult r = runFit(kShapes + "tetrahedron.ply -o /dev/null" + kTetrahedronOptions, "output_device");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("/dev/null: output exists and is a character device; refusing to replace it"),
+            std::string::npos)
+      << r.err;
+}
+
+TEST(FitCommand, MeshThatIsADeviceIsRefusedWithoutReading) {
+  // A mesh path naming a device (here through a .ply link to /dev/zero) used to hang.
+  const fs::path dir = outDir("device");
+  fs::create_symlink("/dev/zero", dir / "zero.ply");
+  const HostResult r = runFit((dir / "zero.ply").string() + " -o " + (dir / "x.rbf").string() + kTetrahedronOptions,
+                              "device");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("zero.ply: is a character device, not a regular file (expected a mesh file)"), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "x.rbf"));
+}
+
+TEST(FitCommand, MeshAtScale1e30IsRefusedInsteadOfAnEmptyFit) {
+  // It used to report success with Jaccard 0, volume 0 and an empty surface.
+  const fs::path dir = outDir("scale_1e30");
+  TriangleMesh big = loadMesh(kShapes + "tetrahedron.ply");
+  big.vertices_mm *= 1e30;
+  writePly((dir / "big.ply").string(), big);
+  const HostResult r = runFit((dir / "big.ply").string() + " -o " + (dir / "x.rbf").string() + kSmall, "scale_1e30");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("big.ply: vertex 0 (9.42809e+29, 0, -3.33333e+29)"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("has a coordinate of magnitude above 1e+06"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "x.rbf"));
+}
+
+TEST(FitCommand, MeshTooSmallForTheOptionsIsRefusedInsteadOfAnEmptyFit) {
+  // The 1 mm tetrahedron with the default 1 mm cell: nothing could be measured.
+  const fs::path dir = outDir("too_small");
+  const HostResult r =
+      runFit(kShapes + "tetrahedron.ply --centres 10 -o " + (dir / "x.rbf").string() + " --quiet", "too_small");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("tetrahedron.ply: the mesh spans 1.63299 mm, less than 4 cells of the extracted surface (cell 1 mm)"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "x.rbf"));
+}
+
+TEST(FitCommand, MeshOfTwoSeparatePiecesFitsWithAWarning) {
+  const fs::path dir = outDir("two_pieces");
+  writePly((dir / "two.ply").string(), tetrahedra(2, 2.0));
+  const HostResult r = runFit((dir / "two.ply").string() + " -o " + (dir / "x.rbf").string() + kTetrahedronOptions,
+                              "two_pieces");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("rbfmuscle: warning: " + (dir / "two.ply").string() + ": the mesh has 2 separate pieces"),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(r.err.find("crosses itself"), std::string::npos) << r.err;
+}
+
+TEST(FitCommand, SelfIntersectingMeshFitsWithAWarning) {
+  const fs::path dir = outDir("crossing");
+  writePly((dir / "crossing.ply").string(), tetrahedra(2, 0.3));
+  const HostResult r = runFit(
+      (dir / "crossing.ply").string() + " -o " + (dir / "x.rbf").string() + kTetrahedronOptions, "crossing");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("rbfmuscle: warning: " + (dir / "crossing.ply").string() + ": the mesh crosses itself: "),
+            std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("pairs of triangles intersect (e.g. triangles "), std::string::npos) << r.err;
+}
+
+TEST(FitCommand, MeshWithoutSuchDefectsFitsWithoutWarning) {
+  const fs::path dir = outDir("clean");
+  const HostResult r = runFit(kShapes + "tetrahedron.ply -o " + (dir / "x.rbf").string() + kTetrahedronOptions, "clean");
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
+}
+
 }  // namespace
 }  // namespace rbfmuscle

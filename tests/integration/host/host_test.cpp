@@ -14,6 +14,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <map>
+#include <chrono>
+#include <vector>
 
 namespace rbfmuscle {
 namespace {
@@ -203,6 +206,85 @@ TEST(HostErrors, PluginWithoutEntryPoint) {
 TEST(HostErrors, PluginThatIsNoLibrary) {
   const std::string file = (kData / "femur_point.xml").string();
   expectFailure("femur_point", {"plugin " + file + ": ", "femur_point.xml"}, "-L '" + file + "'", "plugin_not_library");
+}
+
+/// Writes `files` (name → text) into a fresh directory and runs the model `model` there:
+/// non-zero exit, one error line containing every culprit, no OUTDIR and no staging left.
+void expectGeneratedFailure(const std::string& name, const std::map<std::string, std::string>& files,
+                            const std::string& model, const std::vector<std::string>& culprits) {
+  const fs::path out = outputDir(name);
+  const fs::path dir = out.parent_path() / "model";
+  fs::create_directories(dir);
+  for (const auto& [file, text] : files) std::ofstream(dir / file) << text;
+  const HostResult r = runHost("run '" + (dir / model).string() + "' -o '" + out.string() + "' --quiet", name);
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err.rfind("rbfmuscle: error: ", 0), 0u) << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "one line: " << r.err;
+  for (const auto& culprit : culprits) EXPECT_NE(r.err.find(culprit), std::string::npos) << "missing '" << culprit << "' in: " << r.err;
+  EXPECT_FALSE(fs::exists(out));
+  for (const auto& entry : fs::directory_iterator(out.parent_path()))
+    EXPECT_EQ(entry.path().filename().string().find("out.partial"), std::string::npos) << entry.path();
+}
+
+const char* const kLimit = R"(<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>)";
+
+TEST(HostErrors, UrdfWithAJointCycleIsRefusedNamingTheLinks) {
+  // It used to end in a segmentation fault (signal 11).
+  const std::string urdf = std::string(R"(<robot name="cycle"><link name="base"/><link name="a"/><link name="b"/>
+    <joint name="j_base_a" type="revolute"><parent link="base"/><child link="a"/>)") + kLimit + R"(</joint>
+    <joint name="j_a_b" type="revolute"><parent link="a"/><child link="b"/>)" + kLimit + R"(</joint>
+    <joint name="j_b_a" type="revolute"><parent link="b"/><child link="a"/>)" + kLimit + "</joint></robot>";
+  expectGeneratedFailure("urdf_cycle",
+                         {{"cycle.urdf", urdf},
+                          {"cycle.mot", "m\ninDegrees=yes\nendheader\ntime\tj_base_a\n0\t0\n1\t1\n"},
+                          {"cycle.xml", R"(<RBFMuscleModel version="1"><skeleton file="cycle.urdf"/>)"
+                                        R"(<motion file="cycle.mot"/></RBFMuscleModel>)"}},
+                         "cycle.xml",
+                         {"cycle.xml:1: <skeleton>", "cycle.urdf: link 'a' has 2 parent joints",
+                          "'j_base_a' from link 'base'", "'j_b_a' from link 'b'"});
+}
+
+TEST(HostErrors, MotionAngleOf1e10DegreesFailsFastNamingLineAndColumn) {
+  // It used to hang (and leave OUTDIR.partial-PID behind when killed).
+  const std::string model = R"(<RBFMuscleModel version="1"><skeleton file=")" +
+                            (fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip/hip_r.urdf").string() +
+                            R"("/><motion file="huge.mot"/></RBFMuscleModel>)";
+  const auto start = std::chrono::steady_clock::now();
+  expectGeneratedFailure("motion_huge_angle",
+                         {{"huge.mot", "m\ninDegrees=yes\nendheader\ntime\thip_flexion_r\n0\t0\n0.1\t1e10\n"},
+                          {"huge.xml", model}},
+                         "huge.xml", {"huge.xml:1: <motion>", "huge.mot: line 6 (frame 1), column 'hip_flexion_r'",
+                                      "1e+10 deg exceeds the 10000 rad"});
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+}
+
+TEST(HostErrors, MotionThatIsADeviceIsRefusedWithoutReading) {
+  const std::string model = R"(<RBFMuscleModel version="1"><skeleton file=")" +
+                            (fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip/hip_r.urdf").string() +
+                            R"("/><motion file="/dev/zero"/></RBFMuscleModel>)";
+  expectGeneratedFailure("motion_device", {{"device.xml", model}}, "device.xml",
+                         {"device.xml:1: <motion>", "/dev/zero", "is a character device, not a regular file"});
+}
+
+TEST(HostErrors, OutputDirectoryHoldingTheModelIsRefusedAndKept) {
+  // An earlier output (it has summary.json) that now holds the model would have been replaced,
+  // model and all, by the run.
+  const fs::path out = outputDir("outdir_holds_model");
+  fs::create_directories(out);
+  std::ofstream(out / "summary.json") << "{}\n";
+  const std::string model = R"(<RBFMuscleModel version="1"><skeleton file=")" +
+                            (fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip/hip_r.urdf").string() +
+                            R"("/><motion file=")" +
+                            (fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip/motions/hip_flexion_0_80.mot").string() +
+                            R"("/></RBFMuscleModel>)";
+  std::ofstream(out / "model.xml") << model;
+  const HostResult r = runHost("run '" + (out / "model.xml").string() + "' -o '" + out.string() + "'",
+                               "outdir_holds_model");
+  EXPECT_EQ(r.exit_code, 2) << r.err;
+  EXPECT_NE(r.err.find("run: -o " + out.string() + " holds the model file " + (out / "model.xml").string()),
+            std::string::npos)
+      << r.err;
+  EXPECT_TRUE(fs::exists(out / "model.xml"));
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -160,6 +161,60 @@ TEST(RBFMusclePlugin, AFormerPropertyNameIsRefusedListingTheCurrentOnes) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("max_surface_step_mm"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("origin_area"), std::string::npos) << "lists the properties there are:\n" << r.err;
+}
+
+TEST(RBFMusclePlugin, SurfaceFileLeavingTheModelDirectoryIsRefusedAndNothingIsWritten) {
+  // A surface_file of ../../x.rbf used to receive the fit, even when the run then failed.
+  const fs::path dir = testDir("escape");
+  const fs::path model_dir = dir / "model";
+  fs::create_directories(model_dir);
+  const HostResult r = runModel(writeModel(model_dir, "../escaped.rbf"), dir / "out", "escape");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("path '../escaped.rbf' leaves the model directory " + model_dir.string()), std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "escaped.rbf"));
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(RBFMusclePlugin, CacheWithAnImplausibleWeightIsRefusedNamingTheLine) {
+  // One weight of 1e308 used to give curvature_cost = -nan in every frame, with exit 0.
+  const fs::path dir = testDir("weight_1e308");
+  std::ifstream in(kCachedGluteus);
+  std::string line, text;
+  int line_number = 0, bad_line = 0;
+  bool in_centres = false;
+  while (std::getline(in, line)) {
+    ++line_number;
+    if (in_centres && bad_line == 0 && !line.empty() && line[0] != '#') {
+      std::istringstream fields(line);
+      std::string x, y, z, weight, shape;
+      fields >> x >> y >> z >> weight >> shape;
+      line = x + " " + y + " " + z + " 1e308 " + shape;
+      bad_line = line_number;
+    }
+    if (line.rfind("centres ", 0) == 0) in_centres = true;
+    text += line + "\n";
+  }
+  std::ofstream(dir / "bad.rbf") << text;
+  const HostResult r = runModel(writeModel(dir, (dir / "bad.rbf").string()), dir / "out", "weight_1e308");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("bad.rbf:" + std::to_string(bad_line) + ": centre 0: weight 1e+308 has a magnitude above 1e+06"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(RBFMusclePlugin, MeshFileThatIsNotAMeshIsReportedAsSuch) {
+  // mesh_file = /etc/passwd used to be hashed, and the message advised deleting the .rbf.
+  const fs::path dir = testDir("not_a_mesh");
+  std::string model = test::readText(writeModel(dir, kCachedGluteus));
+  const std::string mesh = (kHip / "meshes/gluteus_maximus_r.ply").string();
+  model.replace(model.find(mesh), mesh.size(), "/etc/passwd");
+  std::ofstream(dir / "model.xml") << model;
+  const HostResult r = runModel(dir / "model.xml", dir / "out", "not_a_mesh");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_NE(r.err.find("/etc/passwd: cannot read mesh"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("delete the .rbf"), std::string::npos) << r.err;
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 
@@ -91,6 +92,48 @@ TEST(FibreGenerator, RegionAwayFromTheMuscleIsNamed) {
   }
   s.count = 0;
   EXPECT_THROW(generateFibres(field, test::rodOrigin(), test::rodInsertion(), s), std::invalid_argument);
+}
+
+/// The message of generateFibres with `settings` on the rod, and how long it took to fail (s).
+std::string generationError(const FibreSettings& settings, double& seconds) {
+  const GaussianField field = test::makeFibreRod();
+  const auto start = std::chrono::steady_clock::now();
+  std::string what = "no error";
+  try {
+    generateFibres(field, test::rodOrigin(), test::rodInsertion(), settings);
+  } catch (const std::invalid_argument& e) {
+    what = e.what();
+  }
+  seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return what;
+}
+
+TEST(FibreGenerator, SettingsBeyondTheTrackingBoundAreRefusedUpFront) {
+  // 10 000 fibres × 1000 segments (the largest the RBFMuscle properties allow) ran for minutes
+  // without an estimate.
+  FibreSettings s = test::makeSmallFibreSettings();
+  s.count = 10000;
+  s.segments = 1000;
+  double seconds = 0;
+  const std::string what = generationError(s, seconds);
+  EXPECT_NE(what.find("count 10000 × (segments 1000 + 1) = 10010000 fibre points, more than the 1000000"),
+            std::string::npos)
+      << what;
+  EXPECT_LT(seconds, 1.0);
+}
+
+TEST(FibreGenerator, SettingsBeyondTheGenerationCostBoundAreRefusedUpFront) {
+  FibreSettings s = test::makeSmallFibreSettings();
+  s.count = 10000;
+  s.segments = 50;
+  s.smoothing_iterations = 20;
+  EXPECT_DOUBLE_EQ(estimateSpreadingPairs(s), 20.0 * 1e8 * 49);
+  double seconds = 0;
+  const std::string what = generationError(s, seconds);
+  EXPECT_NE(what.find("need about 9.8e+10 point-pair evaluations to generate the fibres, more than the 1e+10"),
+            std::string::npos)
+      << what;
+  EXPECT_LT(seconds, 1.0);
 }
 
 }  // namespace

@@ -89,5 +89,61 @@ TEST(RbfFile, UnwritablePathLeavesNothing) {
   EXPECT_FALSE(fs::exists(path));
 }
 
+TEST(RbfFile, WeightOf1e308IsRefusedNamingTheLine) {
+  // Read as is, one such weight made every frame's curvature cost NaN.
+  EXPECT_NE(readError(validHeader(2) + "1 2 3 4 0.5\n1 2 3 1e308 0.5\n")
+                .find("bad.rbf:12: centre 1: weight 1e+308 has a magnitude above 1e+06"),
+            std::string::npos);
+}
+
+TEST(RbfFile, ImplausibleCoordinatesShapesAndOffsetsAreRefusedNamingTheLine) {
+  EXPECT_NE(readError(validHeader(1) + "1e9 2 3 4 0.5\n").find(":11: centre 0: coordinate 1e+09 has a magnitude above"),
+            std::string::npos);
+  EXPECT_NE(readError(validHeader(1) + "1 2 3 4 1e-300\n").find(":11: shape of centre 0 is 1e-300 mm^-2, expected 1e-08"),
+            std::string::npos);
+  std::string header = validHeader(1);
+  header.replace(header.find("offset -5"), 9, "offset -1e300");
+  EXPECT_NE(readError(header + "1 2 3 4 0.5\n").find(":6: offset -1e+300 has a magnitude above"), std::string::npos);
+}
+
+TEST(RbfFile, MoreCentreLinesThanDeclaredAreRefusedNamingTheLine) {
+  // 'centres 1' followed by two lines used to load one centre and ignore the rest.
+  EXPECT_NE(readError(validHeader(1) + "1 2 3 4 0.5\n# comment\n5 6 7 8 0.5\n")
+                .find("bad.rbf:13: more centre lines than the 1 declared by 'centres' on line 10"),
+            std::string::npos);
+  EXPECT_NE(readError(validHeader(3) + "1 2 3 4 0.5\n1 2 3 4 0.5\n").find("bad.rbf:12: file ends early"),
+            std::string::npos);
+}
+
+TEST(RbfFile, ZeroCentresAreRefusedAsSuch) {
+  // It used to load and then be blamed on the landmarks ("no centre attaches").
+  EXPECT_NE(readError(validHeader(0)).find("bad.rbf:10: centre count must be a whole number from 1 to 10000000, got '0' "
+                                           "(a surface needs at least one centre)"),
+            std::string::npos);
+}
+
+TEST(RbfFile, HugeCentreCountIsRefusedBeforeAllocation) {
+  // It used to end in a bare std::bad_alloc.
+  const std::string header = validHeader(1);
+  const std::string huge = header.substr(0, header.find("centres 1")) + "centres 9000000\n";
+  EXPECT_NE(readError(huge + "1 2 3 4 0.5\n").find("bad.rbf:10: declares 9000000 centres, but the file ("),
+            std::string::npos);
+  const std::string beyond = header.substr(0, header.find("centres 1")) + "centres 2000000000\n";
+  EXPECT_NE(readError(beyond).find("centre count must be a whole number from 1 to 10000000, got '2000000000'"),
+            std::string::npos);
+}
+
+TEST(RbfFile, PathThatIsADeviceOrDirectoryIsRefusedWithoutReading) {
+  for (const std::string path : {std::string("/dev/zero"), testDir().string()}) {
+    try {
+      readRbfFile(path);
+      ADD_FAILURE() << "no error for " << path;
+    } catch (const RbfFileError& e) {
+      EXPECT_NE(std::string(e.what()).find(path + ": cannot open the .rbf file: it is a"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find("not a regular file"), std::string::npos) << e.what();
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rbfmuscle

@@ -101,5 +101,14 @@ TEST(ModelDocument, ComponentElementErrors) {
       "/m/scene.xml:6: <k> in <A name=\"x\">: expected text only, found child element <v>"));
 }
 
+TEST(ModelDocument, ModelPathThatIsADeviceOrDirectoryIsRefusedWithoutReading) {
+  // `rbfmuscle run /dev/zero` used to read forever.
+  EXPECT_TRUE(test::throwsWith([] { readModelDocument("/dev/zero"); },
+                               "model file /dev/zero: is a character device, not a regular file (expected a model XML file)"));
+  EXPECT_TRUE(test::throwsWith([] { readModelDocument(RBFMUSCLE_SOURCE_DIR); }, "is a directory, not a regular file"));
+  EXPECT_TRUE(test::throwsWith([] { readModelDocument("/nonexistent/scene.xml"); },
+                               "model file /nonexistent/scene.xml: cannot open it"));
+}
+
 }  // namespace
 }  // namespace rbfmuscle

@@ -2,8 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/stat.h>
+
 #include <cmath>
+#include <filesystem>
 #include <iterator>
+#include <sstream>
 #include <limits>
 #include <vector>
 
@@ -256,6 +260,72 @@ TEST(MeshIo, NanVertexNamesFileAndVertex) {
 TEST(MeshIo, WriteToMissingDirectoryNamesFile) {
   expectMeshError([] { writePly("/nonexistent/dir/out.ply", makeCube(1.0)); },
                   {"/nonexistent/dir/out.ply"});
+}
+
+/// An ASCII PLY tetrahedron with its corners scaled by `scale`.
+std::string tetrahedronPly(double scale) {
+  std::ostringstream text;
+  text.precision(17);
+  text << "ply\nformat ascii 1.0\nelement vertex 4\nproperty double x\nproperty double y\nproperty double z\n"
+          "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+  const double corners[4][3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  for (const auto& c : corners) text << c[0] * scale << ' ' << c[1] * scale << ' ' << c[2] * scale << '\n';
+  text << "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  return text.str();
+}
+
+TEST(MeshIo, MeshPathThatIsADeviceIsRefusedWithoutReading) {
+  // Reading /dev/zero never ends: the loaders refuse anything but a regular file up front.
+  expectMeshError([] { loadMesh("/dev/zero"); }, {"/dev/zero", "is a character device, not a regular file"});
+  expectMeshError([] { detail::readPly("/dev/urandom"); }, {"/dev/urandom", "character device"});
+  expectMeshError([] { hashFile("/dev/zero"); }, {"/dev/zero", "character device"});
+  const auto dir = makeTempDir("mesh_io_device");
+  const std::string link = (dir / "zero.ply").string();
+  std::filesystem::remove(link);
+  std::filesystem::create_symlink("/dev/zero", link);
+  expectMeshError([&] { loadMesh(link); }, {link, "character device"});
+}
+
+TEST(MeshIo, MeshPathThatIsAFifoOrDirectoryIsRefused) {
+  const auto dir = makeTempDir("mesh_io_fifo");
+  const std::string fifo = (dir / "pipe.ply").string();
+  std::filesystem::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  expectMeshError([&] { loadMesh(fifo); }, {fifo, "is a FIFO (named pipe), not a regular file"});
+  expectMeshError([&] { loadMesh(dir.string()); }, {dir.string(), "is a directory, not a regular file"});
+}
+
+TEST(MeshIo, PlyCountBeyondTheFileSizeIsRefusedBeforeAllocation) {
+  // A huge count used to end in a bare std::bad_alloc.
+  const auto dir = makeTempDir("mesh_io_counts");
+  const std::string huge = writeText(dir / "huge.ply",
+                                     "ply\nformat binary_little_endian 1.0\nelement vertex 2000000000\n"
+                                     "property double x\nproperty double y\nproperty double z\nelement face 0\n"
+                                     "property list uchar int vertex_indices\nend_header\n");
+  expectMeshError([&] { loadMesh(huge); },
+                  {huge, "declares 2000000000 'vertex' records of at least 24 bytes each, but only 0 bytes"});
+  const std::string too_many = writeText(dir / "too_many.ply",
+                                         "ply\nformat ascii 1.0\nelement vertex 99999999999\nproperty float x\n"
+                                         "property float y\nproperty float z\nend_header\n");
+  expectMeshError([&] { loadMesh(too_many); }, {too_many, "expected a whole number of records from 0 to 2147483647"});
+  const std::string faces = writeText(dir / "faces.ply", tetrahedronPly(1.0).replace(
+                                                             tetrahedronPly(1.0).find("face 4"), 6, "face 400"));
+  expectMeshError([&] { loadMesh(faces); }, {faces, "400 'face' records"});
+}
+
+TEST(MeshIo, MeshAtScale1e30IsRefusedAsImplausible) {
+  const auto dir = makeTempDir("mesh_io_scale_big");
+  const std::string big = writeText(dir / "big.ply", tetrahedronPly(1e30));
+  expectMeshError([&] { loadMesh(big); }, {big, "has a coordinate of magnitude above 1e+06"});
+}
+
+TEST(MeshIo, MeshAtScale1eMinus30IsRefusedAsCollapsed) {
+  const auto dir = makeTempDir("mesh_io_scale_tiny");
+  const std::string tiny = writeText(dir / "tiny.ply", tetrahedronPly(1e-30));
+  expectMeshError([&] { loadMesh(tiny); }, {tiny, "the mesh spans only 1e-30", "less than 1e-06"});
+  // Within the bounds it loads.
+  EXPECT_EQ(loadMesh(writeText(dir / "small.ply", tetrahedronPly(1e-5))).countTriangles(), 4);
+  EXPECT_EQ(loadMesh(writeText(dir / "large.ply", tetrahedronPly(1e5))).countTriangles(), 4);
 }
 
 }  // namespace

@@ -114,5 +114,26 @@ TEST_F(HipMotion, StorageErrorsPassThroughWithLine) {
   expectModelError([&] { Motion::fromFile(f.path(), *skeleton_); }, {f.path(), "line 5"});
 }
 
+TEST_F(HipMotion, AngleBeyondTheBoundIsRefusedNamingLineAndColumn) {
+  // 1e10 degrees made a run hang; the reader refuses |q| > 1e4 rad and names where.
+  TempFile f("huge_angle.mot");
+  f.write("huge\ninDegrees=yes\nendheader\ntime\thip_flexion_r\thip_adduction_r\n0\t0\t0\n0.1\t1\t1e10\n");
+  expectModelError([&] { Motion::fromFile(f.path(), *skeleton_); },
+                   {f.path(), "line 6 (frame 1)", "column 'hip_adduction_r'", "1e+10 deg", "exceeds the 10000 rad"});
+}
+
+TEST_F(HipMotion, AngleJustWithinTheBoundIsRead) {
+  TempFile f("bound_angle.mot");
+  f.write("bound\ninDegrees=no\nendheader\ntime\thip_flexion_r\n0\t0\n0.1\t-10000\n");
+  EXPECT_EQ(Motion::fromFile(f.path(), *skeleton_).getCoordinates(1)[skeleton_->findCoordinateIndex("hip_flexion_r")],
+            -10000.0);
+}
+
+TEST_F(HipMotion, MotionPathThatIsADeviceOrDirectoryIsRefusedWithoutReading) {
+  expectModelError([&] { Motion::fromFile("/dev/urandom", *skeleton_); },
+                   {"/dev/urandom", "is a character device, not a regular file"});
+  expectModelError([&] { Motion::fromFile(kHipDir, *skeleton_); }, {kHipDir, "is a directory, not a regular file"});
+}
+
 }  // namespace
 }  // namespace rbfmuscle

@@ -229,5 +229,63 @@ TEST(SkeletonErrors, PackageUriIsRejectedWithAdvice) {
   expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "'bone'", "package://"});
 }
 
+const char* const kRevoluteLimit = R"(<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>)";
+
+TEST(SkeletonErrors, UrdfWithAJointCycleIsRefusedNamingTheLinks) {
+  // base → a → b → a: urdfdom accepts it (the root is base) and following the links never
+  // ended (a stack overflow, signal 11).
+  TempFile f("cycle.urdf");
+  f.write(std::string(R"(<robot name="cycle"><link name="base"/><link name="a"/><link name="b"/>
+    <joint name="j_base_a" type="revolute"><parent link="base"/><child link="a"/>)") + kRevoluteLimit + R"(</joint>
+    <joint name="j_a_b" type="revolute"><parent link="a"/><child link="b"/>)" + kRevoluteLimit + R"(</joint>
+    <joint name="j_b_a" type="revolute"><parent link="b"/><child link="a"/>)" + kRevoluteLimit + R"(</joint></robot>)");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); },
+                   {f.path(), "link 'a' has 2 parent joints", "'j_base_a' from link 'base'", "'j_b_a' from link 'b'",
+                    "must form a tree"});
+}
+
+TEST(SkeletonErrors, UrdfLoopApartFromTheRootIsRefusedNamingTheLink) {
+  // a → b → a beside the root: no link has two parents, but a and b hang on nothing.
+  TempFile f("loop_apart.urdf");
+  f.write(std::string(R"(<robot name="apart"><link name="base"/><link name="a"/><link name="b"/><link name="c"/>
+    <joint name="j_base_c" type="fixed"><parent link="base"/><child link="c"/></joint>
+    <joint name="j_a_b" type="revolute"><parent link="a"/><child link="b"/>)") + kRevoluteLimit + R"(</joint>
+    <joint name="j_b_a" type="revolute"><parent link="b"/><child link="a"/>)" + kRevoluteLimit + R"(</joint></robot>)");
+  try {
+    Skeleton::fromUrdf(f.path());
+    ADD_FAILURE() << "expected an error";
+  } catch (const std::exception& e) {
+    // urdfdom itself may refuse it (two roots); either way a clear error naming the file.
+    EXPECT_NE(std::string(e.what()).find(f.path()), std::string::npos) << e.what();
+  }
+}
+
+TEST(SkeletonErrors, UrdfMeshScaleOfZeroIsRefusedNamingTheLinkAndMesh) {
+  TempFile f("scale_zero.urdf");
+  f.write("<robot name=\"r\"><link name=\"bone\"><visual><geometry><mesh filename=\"" + kHipDir +
+          "/meshes/femur_r.ply\" scale=\"0 0.001 0.001\"/></geometry></visual></link></robot>");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); },
+                   {f.path(), "link 'bone'", "femur_r.ply", "has scale 0 0.001 0.001", "expected each factor from 1e-06"});
+}
+
+TEST(SkeletonErrors, UrdfNegativeMeshScaleIsRefused) {
+  TempFile f("scale_negative.urdf");
+  f.write("<robot name=\"r\"><link name=\"bone\"><visual><geometry><mesh filename=\"" + kHipDir +
+          "/meshes/femur_r.ply\" scale=\"-0.001 0.001 0.001\"/></geometry></visual></link></robot>");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "link 'bone'", "mirror"});
+}
+
+TEST(SkeletonErrors, UrdfJointOriginFarAwayIsRefusedNamingTheJoint) {
+  TempFile f("far_origin.urdf");
+  f.write(std::string(R"(<robot name="far"><link name="a"/><link name="b"/>
+    <joint name="j" type="revolute"><origin xyz="1e9 0 0"/><parent link="a"/><child link="b"/>)") + kRevoluteLimit +
+          "</joint></robot>");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "joint 'j'", "origin xyz 1e+09 0 0 m"});
+}
+
+TEST(SkeletonErrors, UrdfPathThatIsADeviceIsRefusedWithoutReading) {
+  expectModelError([] { Skeleton::fromUrdf("/dev/zero"); }, {"/dev/zero", "is a character device, not a regular file"});
+}
+
 }  // namespace
 }  // namespace rbfmuscle
