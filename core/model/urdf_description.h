@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "model/skeleton.h"
+#include "model/skeleton_description.h"
 
 namespace rbfmuscle::detail {
 
@@ -49,5 +50,10 @@ inline constexpr double kDefaultLinkMass_kg = 1e-6;
 /// @throws ModelError naming the file for a missing or unparsable file, a joint
 ///   of unsupported type, a zero axis, or a mesh that does not exist.
 UrdfDescription readUrdf(const std::string& path);
+
+/// The same skeleton as the neutral description the Simbody builder reads: the root welded to
+/// ground, fixed joints welded at X_PJ, revolute joints pins about axis_J with X_PF = X_PJ and
+/// X_BM = identity, coordinates named after the revolute joints (rotational, default 0, range ±∞).
+SkeletonDescription describeUrdf(const UrdfDescription& urdf);
 
 }  // namespace rbfmuscle::detail
