@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// A prescribed motion: coordinate values over frames, read from an OpenSim
-/// .mot file (angles in degrees when its header says `inDegrees=yes`).
+/// .mot/.sto file (angles in degrees when its header says `inDegrees=yes`).
 #include <Eigen/Core>
 
 #include <string>
@@ -11,11 +11,16 @@ namespace rbfmuscle {
 
 class Skeleton;
 
-/// Coordinate values per frame, in the skeleton's coordinate order, in rad.
-/// Coordinates the file does not mention stay at 0.
+/// Coordinate values per frame, in the skeleton's coordinate order: rad for rotational
+/// coordinates, mm for translational ones. Coordinates the file does not mention stay at the
+/// skeleton's rest values (Skeleton::getRestCoordinateValues: 0 for a URDF skeleton).
 class Motion {
  public:
-  /// Reads `path` and maps its columns onto `skeleton`'s coordinates.
+  /// Reads `path` and maps its columns onto `skeleton`'s coordinates by name. A column is a
+  /// coordinate name, or an OpenSim 4 state path `/jointset/JOINT/COORDINATE/value`; state
+  /// columns ending in `/speed` are skipped (the motion prescribes positions). Rotational
+  /// values are degrees when the header says `inDegrees=yes`, else rad; translational values
+  /// are in the model's length unit, metres (OpenSim's convention), and become mm.
   /// @throws ModelError naming the file and the column for a coordinate the
   ///   skeleton does not have, or for a file without frames.
   static Motion fromFile(const std::string& path, const Skeleton& skeleton);
