@@ -84,6 +84,13 @@ struct Frame {
   Eigen::Isometry3d X_BF = Eigen::Isometry3d::Identity();
 };
 
+/// A transform axis's function as read: value = slope · q + intercept (model units).
+struct ParsedFunction {
+  bool linear = false;  ///< LinearFunction (needs a coordinate); else a Constant (intercept only)
+  double slope = 0.0;
+  double intercept = 0.0;
+};
+
 struct OsimJoint {
   const XMLElement* element = nullptr;
   std::string name, type, parent, child;
@@ -168,7 +175,7 @@ class OsimReader {
   std::vector<std::pair<std::string, const XMLElement*>> readCoordinateElements(const XMLElement& joint) const;
   int addCoordinate(const XMLElement* element, const std::string& name, CoordinateMotion motion,
                     const std::string& joint, SkeletonDescription& d) const;
-  AxisFunction readFunction(const XMLElement& axis, const XMLElement& function) const;
+  ParsedFunction readFunction(const XMLElement& axis, const XMLElement& function) const;
 
   std::string path_;
   fs::path dir_;
@@ -449,16 +456,15 @@ int OsimReader::addCoordinate(const XMLElement* element, const std::string& name
   return static_cast<int>(d.coordinates.size()) - 1;
 }
 
-/// A LinearFunction or a Constant, also inside a MultiplierFunction. The coordinate is filled in
-/// by the caller; values are in model units here.
-AxisFunction OsimReader::readFunction(const XMLElement& axis, const XMLElement& function) const {
+/// A LinearFunction or a Constant, also inside a MultiplierFunction; values in model units.
+ParsedFunction OsimReader::readFunction(const XMLElement& axis, const XMLElement& function) const {
   const std::string type = function.Name();
-  AxisFunction f;
+  ParsedFunction f;
   if (type == "LinearFunction") {
     const auto c = numbers(function, "coefficients", 2, {});
+    f.linear = true;
     f.slope = c[0];
     f.intercept = c[1];
-    f.coordinate = 0;  // driven; the caller sets which
     return f;
   }
   if (type == "Constant") {
@@ -478,7 +484,7 @@ AxisFunction OsimReader::readFunction(const XMLElement& axis, const XMLElement& 
       fail(inner, "in " + describe(axis) + ": a MultiplierFunction of a " + inner_type +
                       " couples its coordinate non-linearly; only LinearFunction and Constant (also inside a "
                       "MultiplierFunction) are supported");
-    AxisFunction g = readFunction(axis, *inner);
+    ParsedFunction g = readFunction(axis, *inner);
     g.slope *= scale;
     g.intercept *= scale;
     return g;
@@ -591,8 +597,10 @@ void OsimReader::readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescri
     if (!function) {
       if (!coordinate.empty()) fail(&a, "names coordinate '" + coordinate + "' but has no function");
     } else {
-      f = readFunction(a, *function);
-      const bool linear = f.coordinate == 0;
+      const ParsedFunction parsed = readFunction(a, *function);
+      const bool linear = parsed.linear;
+      f.slope = parsed.slope;
+      f.intercept = parsed.intercept;
       if (linear && coordinate.empty())
         fail(function, "in " + describe(a) + ": a LinearFunction needs a coordinate, the axis names none");
       if (!linear && !coordinate.empty())
