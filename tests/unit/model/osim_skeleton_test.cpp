@@ -293,6 +293,19 @@ TEST(OsimV4, FramesPinWeldAndCustomJointFollowTheFile) {
                    {"three_bodies_v4.osim", "joint 'ground_pelvis' cannot put body 'pelvis' there", "900 mm"});
 }
 
+// 3.x geometry: VisibleObject transform and scale compose with the DisplayGeometry's; Windows
+// separators in the file name; a 3.x CustomJoint with one rotation.
+TEST(OsimV3, GeometryTransformsAndScalesCompose) {
+  const Skeleton s = Skeleton::fromOsim(kData + "geometry_transform.osim");
+  const auto& meshes = s.getBodyMeshes(s.findBodyIndex("tibia"));
+  ASSERT_EQ(meshes.size(), 1u);
+  EXPECT_EQ(meshes[0].path, kHipDir + "/osim/geometry/LHDL_femur_r.vtp");
+  const Eigen::Isometry3d expected = poseOf({0.01, 0, 0}, {0.1, 0, 0}) * poseOf({0, 0.02, 0}, {0, 0.2, 0});
+  EXPECT_TRUE(meshes[0].X_BM.isApprox(expected, 1e-15));
+  EXPECT_TRUE(meshes[0].scale_to_mm.isApprox(Eigen::Vector3d(2, 1, 1), 1e-15));
+  EXPECT_EQ(s.getCoordinateNames(), std::vector<std::string>{"knee_angle"});
+}
+
 // ---------------------------------------------------------------- refused constructs
 
 TEST(OsimErrors, RefusedConstructsNameTheElementAndLine) {
