@@ -17,14 +17,14 @@
 namespace rbfmuscle {
 namespace {
 
-/// A body's collision meshes, each in the body frame B (mm). Each stays a bone of its own:
-/// the subject's ilium and sacrum overlap at their joint, and the distance to the union of two
-/// solids is the smaller of their distances, not the distance to their merged surfaces.
+/// A body's collision meshes, or its visual ones when it has none (an OpenSim model's bodies
+/// carry geometry only). Each stays a bone of its own: the subject's ilium and sacrum overlap at
+/// their joint, and the distance to the union of two solids is the smaller of their distances,
+/// not the distance to their merged surfaces.
 std::vector<const BodyMesh*> findCollisionMeshes(const Skeleton& skeleton, int body) {
-  std::vector<const BodyMesh*> found;
-  for (const BodyMesh& m : skeleton.getBodyMeshes(body))
-    if (m.collision) found.push_back(&m);
-  return found;
+  std::vector<const BodyMesh*> collision, visual;
+  for (const BodyMesh& m : skeleton.getBodyMeshes(body)) (m.collision ? collision : visual).push_back(&m);
+  return collision.empty() ? visual : collision;
 }
 
 /// One collision mesh in its body frame B (mm).

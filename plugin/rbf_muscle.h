@@ -44,7 +44,8 @@ class RBFMuscle final : public Component {
                        PropertyRange{0, 10000}};
   Property<int> fibre_segments{this, "fibre_segments", 15, "segments per fibre", PropertyRange{1, 1000}};
   Property<bool> contacts{this, "contacts", true,
-                          "keep the muscle out of every body with a collision mesh (false: bones are ignored)"};
+                          "keep the muscle out of every body with a mesh (its collision meshes, else its visual ones; "
+                          "false: bones are ignored)"};
   Property<int> quadrature_points{this, "quadrature_points", 2000,
                                   "points of the volume measure over the muscle and a shell around it",
                                   PropertyRange{64, 200000}};

@@ -8,7 +8,7 @@ build_dir=${1:-build}
 
 packages=(build-essential cmake ninja-build pkg-config
           libsimbody-dev libeigen3-dev libfcl-dev liburdfdom-dev libassimp-dev
-          libtinyxml2-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev python3-numpy python3-matplotlib python3-scipy)
+          libtinyxml2-dev zlib1g-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev python3-numpy python3-matplotlib python3-scipy)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -70,7 +70,10 @@ Model Model::build(ModelDocument document, const Registry& registry) {
   std::vector<std::unique_ptr<Component>> components = createComponents(document, registry);
   auto load_skeleton = [&]() -> Skeleton {
     try {
-      return Skeleton::fromUrdf(document.skeleton.path);
+      Skeleton s = Skeleton::fromFile(document.skeleton.path);  // .urdf or .osim
+      if (document.skeleton_rest_pose == RestPose::kBodiesAtGround)
+        s.setRestCoordinateValues(s.solveBodiesAtGround());
+      return s;
     } catch (const std::exception& error) {
       throwAt(document.skeleton.location, error.what());
     }
@@ -90,10 +93,10 @@ Model Model::build(ModelDocument document, const Registry& registry) {
 }
 
 void Model::initializeComponents(const std::string& output_directory, const InitProgressFn& progress) {
-  // Components take the rest pose (all coordinates 0, where the meshes were
-  // segmented) as their reference: the skeleton is there while they initialize.
-  skeleton_.setCoordinateValues(Eigen::VectorXd::Zero(
-      static_cast<Eigen::Index>(skeleton_.getCoordinateNames().size())));
+  // Components take the rest pose (where the meshes were segmented: all coordinates 0 for
+  // the URDF scenes; see ModelDocument's rest_pose) as their reference: the skeleton is
+  // there while they initialize.
+  skeleton_.setCoordinateValues(skeleton_.getRestCoordinateValues());
   const InitContext context(document_.directory, output_directory, skeleton_);
   for (std::size_t c = 0; c < components_.size(); ++c) {
     const auto& component = components_[c];

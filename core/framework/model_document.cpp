@@ -49,8 +49,10 @@ void checkAttributes(const std::string& file, const XMLElement& element,
 }
 
 FileReference readFileReference(const ModelDocument& doc, const XMLElement& element,
-                                bool resolve) {
-  checkAttributes(doc.path, element, {"file"});
+                                bool resolve, const std::set<std::string>& more_attributes = {}) {
+  std::set<std::string> allowed = more_attributes;
+  allowed.insert("file");
+  checkAttributes(doc.path, element, allowed);
   const char* file = element.Attribute("file");
   if (file == nullptr || std::string(file).empty())
     throwAt(locate(doc.path, element), "missing attribute 'file' (expected a path)");
@@ -137,7 +139,14 @@ ModelDocument parseModelDocument(const std::string& xml_text, const std::string&
     const std::string name = child->Name();
     if (name == "skeleton") {
       once(have_skeleton, *child);
-      doc.skeleton = readFileReference(doc, *child, true);
+      doc.skeleton = readFileReference(doc, *child, true, {"rest_pose"});
+      if (const char* rest = child->Attribute("rest_pose")) {
+        const std::string value = rest;
+        if (value == "default") doc.skeleton_rest_pose = RestPose::kDefault;
+        else if (value == "bodies_at_ground") doc.skeleton_rest_pose = RestPose::kBodiesAtGround;
+        else
+          throwAt(locate(path, *child), "rest_pose '" + value + "' (expected default or bodies_at_ground)");
+      }
     } else if (name == "plugin") {
       doc.plugins.push_back(readFileReference(doc, *child, false));
     } else if (name == "motion") {

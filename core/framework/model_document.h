@@ -4,7 +4,8 @@
 /// created here. Format (version 1):
 ///
 ///     <RBFMuscleModel version="1" name="hip_flexion">
-///       <skeleton file="hip_r.urdf"/>                    <!-- exactly one; relative to this file -->
+///       <skeleton file="hip_r.urdf"/>                    <!-- exactly one; relative to this file;
+///                                                             .urdf or .osim (OpenSim model) -->
 ///       <plugin file="librbfmuscle_plugin.so"/>         <!-- zero or more; see PluginLoader -->
 ///       <motion file="motions/hip_flexion_0_80.mot"/>   <!-- exactly one; relative to this file -->
 ///       <components>                                    <!-- optional; updated in this order -->
@@ -15,6 +16,14 @@
 ///       </components>
 ///       <reporter outputs="femur_origin.*"/>            <!-- optional; patterns, default "*" -->
 ///     </RBFMuscleModel>
+///
+/// The skeleton element may set the rest pose, where the scene's meshes were segmented
+/// (components take it as their reference; a motion gives the coordinates it does not mention
+/// their rest values):
+///   rest_pose="default"           the coordinates' default values (URDF: all 0); the default
+///   rest_pose="bodies_at_ground"  the coordinates that put every body frame at ground, for a
+///                                 model whose bodies are all given in one image frame (the LHDL
+///                                 OpenSim model: the CT frame), Skeleton::solveBodiesAtGround
 #include "framework/framework_error.h"
 
 #include <string>
@@ -58,12 +67,16 @@ struct FileReference {
   SourceLocation location;
 };
 
+/// `rest_pose` of the skeleton element.
+enum class RestPose { kDefault, kBodiesAtGround };
+
 struct ModelDocument {
   std::string path;       ///< model file as given
   std::string directory;  ///< absolute directory of the model file
   std::string name;       ///< `name` attribute of the root (default: file stem)
   int version = 0;
   FileReference skeleton;
+  RestPose skeleton_rest_pose = RestPose::kDefault;
   std::vector<FileReference> plugins;
   FileReference motion;
   std::vector<ComponentSpec> components;

@@ -2,6 +2,7 @@
 
 #include "geometry/ply_reader.h"
 #include "io/file_checks.h"
+#include "geometry/vtp_reader.h"
 
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
@@ -133,11 +134,26 @@ RawMesh readAssimpRaw(const std::string& path) {
   return raw;
 }
 
-bool hasPlyExtension(const std::string& path) {
-  if (path.size() < 4) return false;
-  std::string ext = path.substr(path.size() - 4);
-  for (char& ch : ext) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
-  return ext == ".ply";
+/// Reads VTK XML PolyData with the reader of vtp_reader.h (assimp has none); polygons and
+/// strips are triangulated, lines and vertices ignored.
+RawMesh readVtpRaw(const std::string& path) {
+  const VtpPolyData vtp = readVtpPolyData(path);
+  RawMesh raw;
+  raw.vertices.resize(static_cast<std::size_t>(vtp.points.cols()));
+  for (Eigen::Index v = 0; v < vtp.points.cols(); ++v)
+    raw.vertices[static_cast<std::size_t>(v)] = {vtp.points(0, v), vtp.points(1, v), vtp.points(2, v)};
+  const Eigen::Matrix3Xi t = vtp.triangulate();
+  raw.triangles.resize(static_cast<std::size_t>(t.cols()));
+  for (Eigen::Index j = 0; j < t.cols(); ++j) raw.triangles[static_cast<std::size_t>(j)] = {t(0, j), t(1, j), t(2, j)};
+  return raw;
+}
+
+/// True when `path` ends in `ext` (".ply"), ignoring case.
+bool hasExtension(const std::string& path, const std::string& ext) {
+  if (path.size() < ext.size()) return false;
+  std::string tail = path.substr(path.size() - ext.size());
+  for (char& ch : tail) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+  return tail == ext;
 }
 
 }  // namespace
@@ -158,7 +174,9 @@ LoadedMesh readMesh(const std::string& path) {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw MeshError(path + ": cannot open mesh file (missing or unreadable)");
   }
-  const RawMesh raw = hasPlyExtension(path) ? readPlyRaw(path) : readAssimpRaw(path);
+  const RawMesh raw = hasExtension(path, ".ply")   ? readPlyRaw(path)
+                     : hasExtension(path, ".vtp") ? readVtpRaw(path)
+                                                    : readAssimpRaw(path);
   if (raw.triangles.empty()) throw MeshError(path + ": mesh contains no triangles");
   Eigen::AlignedBox3d box;
   for (const auto& t : raw.triangles)

@@ -1,6 +1,7 @@
 #pragma once
 /// @file
-/// Mesh files: reading (PLY by an own reader; STL, OBJ and every other format assimp knows),
+/// Mesh files: reading (PLY and VTK XML PolyData by own readers; STL, OBJ and every other
+/// format assimp knows),
 /// writing binary PLY, and hashing a file to tie derived data to its source mesh.
 #include <string>
 
@@ -37,7 +38,9 @@ struct LoadedMesh {
 /// Reads every triangle of every mesh in the file (node transforms applied, polygons
 /// triangulated, points and lines ignored). PLY (ASCII or binary, by the `.ply` extension)
 /// is read by the library's own reader, because assimp 5.2 misreads some binary PLY files;
-/// every other format (STL, OBJ, ...) through assimp. Then it welds vertices with exactly equal
+/// VTK XML PolyData (`.vtp`, as OpenSim model geometry is stored) by readVtpPolyData
+/// (vtp_reader.h), polygons and triangle strips triangulated; every other format (STL, OBJ, ...)
+/// through assimp. Then it welds vertices with exactly equal
 /// coordinates so unindexed formats (STL) become indexed, drops unreferenced vertices, and
 /// repairs what repairMesh can repair safely (collapsed, back-to-back and duplicate triangles,
 /// pinched edges and vertices, slivers left hanging at a pinch). An indexed file with none of
@@ -45,10 +48,10 @@ struct LoadedMesh {
 /// Open or otherwise unusable meshes are returned as they are: use loadSolidMesh for a mesh
 /// that must bound a solid.
 /// @throws MeshError naming `path` when the file is missing or unreadable or not a regular file
-///         (devices, FIFOs and directories are refused before they are read), assimp fails
-///         (assimp's message included), there are no triangles, a coordinate used by a triangle
-///         is not finite or of magnitude above kMaxMeshCoordinate, or the mesh spans less than
-///         kMinMeshExtent.
+///         (devices, FIFOs and directories are refused before they are read), assimp or the VTP
+///         reader fails (its message included), there are no triangles, a coordinate used by a
+///         triangle is not finite or of magnitude above kMaxMeshCoordinate, or the mesh spans less
+///         than kMinMeshExtent.
 LoadedMesh readMesh(const std::string& path);
 
 /// readMesh, passing the warning (LoadedMesh::describeDefects) to `warn` when the file had

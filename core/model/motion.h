@@ -1,7 +1,7 @@
 #pragma once
 /// @file
 /// A prescribed motion: coordinate values over frames, read from an OpenSim
-/// .mot file (angles in degrees when its header says `inDegrees=yes`).
+/// .mot/.sto file (angles in degrees when its header says `inDegrees=yes`).
 #include <Eigen/Core>
 
 #include <string>
@@ -11,16 +11,22 @@ namespace rbfmuscle {
 
 class Skeleton;
 
-/// Largest coordinate magnitude a motion may hold: 1e4 rad (about 1600 turns). A joint angle
-/// of a human motion stays within a turn; far beyond, a value is in wrong units or corrupt,
-/// and angles of 1e10 rad or more lose all precision in sin and cos and made runs hang.
+/// Largest coordinate magnitude a motion may hold: 1e4 rad (about 1600 turns; 1e4 mm for a
+/// translational coordinate). A joint angle of a human motion stays within a turn; far beyond,
+/// a value is in wrong units or corrupt, and angles of 1e10 rad or more lose all precision in
+/// sin and cos and made runs hang.
 inline constexpr double kMaxCoordinate_rad = 1e4;
 
-/// Coordinate values per frame, in the skeleton's coordinate order, in rad.
-/// Coordinates the file does not mention stay at 0.
+/// Coordinate values per frame, in the skeleton's coordinate order: rad for rotational
+/// coordinates, mm for translational ones. Coordinates the file does not mention stay at the
+/// skeleton's rest values (Skeleton::getRestCoordinateValues: 0 for a URDF skeleton).
 class Motion {
  public:
-  /// Reads `path` and maps its columns onto `skeleton`'s coordinates.
+  /// Reads `path` and maps its columns onto `skeleton`'s coordinates by name. A column is a
+  /// coordinate name, or an OpenSim 4 state path `/jointset/JOINT/COORDINATE/value`; state
+  /// columns ending in `/speed` are skipped (the motion prescribes positions). Rotational
+  /// values are degrees when the header says `inDegrees=yes`, else rad; translational values
+  /// are in the model's length unit, metres (OpenSim's convention), and become mm.
   /// @throws ModelError naming the file and the column for a coordinate the
   ///   skeleton does not have, or for a file without frames; naming the file, line, frame and
   ///   column for a value that is not finite or whose magnitude exceeds kMaxCoordinate_rad

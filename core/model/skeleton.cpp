@@ -2,9 +2,14 @@
 
 #include <Simbody.h>
 
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <stdexcept>
 
+#include "model/osim_description.h"
+#include "model/skeleton_description.h"
 #include "model/urdf_description.h"
 
 namespace rbfmuscle {
@@ -41,23 +46,41 @@ struct Skeleton::Impl {
   SimTK::SimbodyMatterSubsystem matter{system};
   SimTK::State state;
 
-  std::string name;
-  std::string urdf_path;
+  detail::SkeletonDescription description;
   std::vector<std::string> coordinate_names;
   std::vector<std::string> body_names;
-  std::vector<SimTK::MobilizedBodyIndex> coordinate_mobod;  ///< the pin that owns each coordinate
+  std::vector<SimTK::MobilizedBodyIndex> coordinate_mobod;  ///< the mobilizer that owns each coordinate
+  std::vector<int> coordinate_q;                            ///< its q index within that mobilizer
   std::vector<SimTK::MobilizedBodyIndex> body_mobod;
-  std::vector<std::vector<BodyMesh>> body_meshes;
   Eigen::VectorXd q_rad;
+  Eigen::VectorXd rest_q;
 };
 
 Skeleton Skeleton::fromUrdf(const std::string& urdf_path) {
-  const detail::UrdfDescription d = detail::readUrdf(urdf_path);
-  auto impl = std::make_unique<Impl>();
-  impl->name = d.name;
-  impl->urdf_path = urdf_path;
+  return build(detail::describeUrdf(detail::readUrdf(urdf_path)));
+}
 
-  for (const detail::UrdfLink& link : d.links) {
+Skeleton Skeleton::fromOsim(const std::string& osim_path) {
+  return build(detail::readOsim(osim_path));
+}
+
+Skeleton Skeleton::fromFile(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  if (ext == ".urdf") return fromUrdf(path);
+  if (ext == ".osim") return fromOsim(path);
+  throw ModelError("skeleton " + path + ": extension '" + ext +
+                   "' is not a skeleton format (expected .urdf or .osim)");
+}
+
+Skeleton Skeleton::build(detail::SkeletonDescription d) {
+  auto impl = std::make_unique<Impl>();
+  const std::string& path = d.path;
+  for (const auto& c : d.coordinates) impl->coordinate_names.push_back(c.name);
+  impl->coordinate_mobod.resize(d.coordinates.size());
+  impl->coordinate_q.assign(d.coordinates.size(), 0);
+
+  for (const detail::SkeletonBody& link : d.bodies) {
     SimTK::Body::Rigid body;
     try {
       SimTK::Mat33 I;
@@ -67,7 +90,7 @@ Skeleton Skeleton::fromUrdf(const std::string& urdf_path) {
       body = SimTK::Body::Rigid(SimTK::MassProperties(
           link.mass_kg, SimTK::Vec3(c.x(), c.y(), c.z()), SimTK::Inertia(I)));
     } catch (const std::exception& e) {
-      throw ModelError("URDF " + urdf_path + ": link '" + link.name +
+      throw ModelError(d.format + " " + path + ": " + (d.format == "URDF" ? "link '" : "body '") + link.name +
                        "' has invalid mass properties (mass must be positive, inertia a valid "
                        "symmetric inertia matrix): " + e.what());
     }
@@ -77,46 +100,115 @@ Skeleton Skeleton::fromUrdf(const std::string& urdf_path) {
                         : impl->matter.updMobilizedBody(impl->body_mobod[link.parent]);
     SimTK::MobilizedBodyIndex index;
     switch (link.joint_kind) {
-      case detail::UrdfJointKind::kRoot:
+      case detail::JointKind::kRoot:
         index = SimTK::MobilizedBody::Weld(parent, SimTK::Transform(), body, SimTK::Transform())
                     .getMobilizedBodyIndex();
         break;
-      case detail::UrdfJointKind::kFixed:
-        index = SimTK::MobilizedBody::Weld(parent, toSimTK(link.X_PJ), body, SimTK::Transform())
+      case detail::JointKind::kWeld:
+        index = SimTK::MobilizedBody::Weld(parent, toSimTK(link.X_PF), body, toSimTK(link.X_BM))
                     .getMobilizedBodyIndex();
         break;
-      case detail::UrdfJointKind::kRevolute: {
-        // Inboard frame F = J·R_JA in the parent, outboard M = R_JA in the child, so
-        // X_PB(q) = X_PJ · R_JA · Rz(q) · R_JAᵀ = X_PJ · Rot(axis_J, q).
-        const Eigen::Isometry3d X_JA = pinAxisFrame(link.axis_J);
-        index = SimTK::MobilizedBody::Pin(parent, toSimTK(link.X_PJ * X_JA), body, toSimTK(X_JA))
+      case detail::JointKind::kPin: {
+        // Inboard frame F·R_JA in the parent, outboard M·R_JA in the child, so
+        // X_PB(q) = X_PF · R_JA · Rz(q) · R_JAᵀ · X_BMᵀ = X_PF · Rot(axis, q) · X_BMᵀ.
+        const Eigen::Isometry3d X_JA = pinAxisFrame(link.pin_axis);
+        index = SimTK::MobilizedBody::Pin(parent, toSimTK(link.X_PF * X_JA), body, toSimTK(link.X_BM * X_JA))
                     .getMobilizedBodyIndex();
-        impl->coordinate_names.push_back(link.joint_name);
-        impl->coordinate_mobod.push_back(index);
+        impl->coordinate_mobod[link.coordinates.at(0)] = index;
+        impl->coordinate_q[link.coordinates.at(0)] = 0;
+        break;
+      }
+      case detail::JointKind::kSpatial: {
+        const int n = static_cast<int>(link.coordinates.size());
+        if (n == 0) {  // every axis constant: a weld at the constant pose
+          const Eigen::Isometry3d X_FM = detail::calcJointTransform(link, Eigen::VectorXd());
+          index = SimTK::MobilizedBody::Weld(parent, toSimTK(link.X_PF * X_FM), body, toSimTK(link.X_BM))
+                      .getMobilizedBodyIndex();
+          break;
+        }
+        // As OpenSim builds a CustomJoint: one FunctionBased mobilizer whose six functions
+        // (three rotations, three translations) take the joint's coordinates as arguments.
+        std::vector<const SimTK::Function*> functions;
+        std::vector<std::vector<int>> arguments;
+        std::vector<SimTK::Vec3> axes;
+        for (int i = 0; i < 6; ++i) {
+          const detail::AxisFunction& f = link.functions[i];
+          axes.emplace_back(link.axes[i].x(), link.axes[i].y(), link.axes[i].z());
+          if (f.coordinate < 0) {
+            functions.push_back(new SimTK::Function::Constant(f.intercept, 0));
+            arguments.emplace_back();
+          } else {
+            SimTK::Vector coefficients(2);
+            coefficients[0] = f.slope;
+            coefficients[1] = f.intercept;
+            functions.push_back(new SimTK::Function::Linear(coefficients));
+            const auto k = std::find(link.coordinates.begin(), link.coordinates.end(), f.coordinate) -
+                           link.coordinates.begin();
+            arguments.push_back({static_cast<int>(k)});
+          }
+        }
+        index = SimTK::MobilizedBody::FunctionBased(parent, toSimTK(link.X_PF), body, toSimTK(link.X_BM), n,
+                                                    functions, arguments, axes)
+                    .getMobilizedBodyIndex();
+        for (int k = 0; k < n; ++k) {
+          impl->coordinate_mobod[link.coordinates[k]] = index;
+          impl->coordinate_q[link.coordinates[k]] = k;
+        }
         break;
       }
     }
     impl->body_names.push_back(link.name);
     impl->body_mobod.push_back(index);
-    impl->body_meshes.push_back(link.meshes);
   }
 
   impl->system.realizeTopology();
   impl->state = impl->system.getDefaultState();
-  impl->q_rad = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(impl->coordinate_names.size()));
-  Skeleton skeleton(std::move(impl));
-  skeleton.setCoordinateValues(skeleton.impl_->q_rad);
-  return skeleton;
+  impl->q_rad = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(d.coordinates.size()));
+  for (std::size_t i = 0; i < d.coordinates.size(); ++i) impl->q_rad[static_cast<Eigen::Index>(i)] = d.coordinates[i].default_value;
+  impl->rest_q = impl->q_rad;
+  impl->description = std::move(d);
+  return Skeleton(std::move(impl));
 }
 
-Skeleton::Skeleton(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+Skeleton::Skeleton(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) { setCoordinateValues(impl_->q_rad); }
 Skeleton::Skeleton(Skeleton&&) noexcept = default;
 Skeleton& Skeleton::operator=(Skeleton&&) noexcept = default;
 Skeleton::~Skeleton() = default;
 
-const std::string& Skeleton::getName() const { return impl_->name; }
-const std::string& Skeleton::getUrdfPath() const { return impl_->urdf_path; }
+const std::string& Skeleton::getName() const { return impl_->description.name; }
+const std::string& Skeleton::getModelPath() const { return impl_->description.path; }
+const std::string& Skeleton::getUrdfPath() const { return impl_->description.path; }
 const std::vector<std::string>& Skeleton::getCoordinateNames() const { return impl_->coordinate_names; }
+const std::vector<CoordinateInfo>& Skeleton::getCoordinates() const { return impl_->description.coordinates; }
+
+Eigen::VectorXd Skeleton::getDefaultCoordinateValues() const {
+  const auto& c = impl_->description.coordinates;
+  Eigen::VectorXd q(static_cast<Eigen::Index>(c.size()));
+  for (std::size_t i = 0; i < c.size(); ++i) q[static_cast<Eigen::Index>(i)] = c[i].default_value;
+  return q;
+}
+
+const Eigen::VectorXd& Skeleton::getRestCoordinateValues() const { return impl_->rest_q; }
+
+void Skeleton::setRestCoordinateValues(const Eigen::VectorXd& q) {
+  checkCoordinates(q, "setRestCoordinateValues");
+  impl_->rest_q = q;
+}
+
+Eigen::VectorXd Skeleton::solveBodiesAtGround() const {
+  return detail::solveBodiesAtGround(impl_->description, impl_->rest_q, 0.01, 1e-6);
+}
+
+void Skeleton::checkCoordinates(const Eigen::VectorXd& q, const char* caller) const {
+  const Impl& m = *impl_;
+  if (q.size() != static_cast<Eigen::Index>(m.coordinate_names.size()))
+    throw std::invalid_argument("Skeleton '" + getName() + "': " + caller + " got " + std::to_string(q.size()) +
+                                " values, expected " + std::to_string(m.coordinate_names.size()));
+  for (Eigen::Index i = 0; i < q.size(); ++i)
+    if (!std::isfinite(q[i]))
+      throw std::invalid_argument("Skeleton '" + getName() + "': coordinate '" + m.coordinate_names[i] +
+                                  "' set to a non-finite value");
+}
 const std::vector<std::string>& Skeleton::getBodyNames() const { return impl_->body_names; }
 
 int Skeleton::findCoordinateIndex(const std::string& name) const {
@@ -135,16 +227,9 @@ int Skeleton::findBodyIndex(const std::string& name) const {
 
 void Skeleton::setCoordinateValues(const Eigen::VectorXd& q_rad) {
   Impl& m = *impl_;
-  if (q_rad.size() != static_cast<Eigen::Index>(m.coordinate_names.size()))
-    throw std::invalid_argument("Skeleton '" + m.name + "': setCoordinateValues got " +
-                                std::to_string(q_rad.size()) + " values, expected " +
-                                std::to_string(m.coordinate_names.size()));
-  for (Eigen::Index i = 0; i < q_rad.size(); ++i) {
-    if (!std::isfinite(q_rad[i]))
-      throw std::invalid_argument("Skeleton '" + m.name + "': coordinate '" +
-                                  m.coordinate_names[i] + "' set to a non-finite value");
-    m.matter.getMobilizedBody(m.coordinate_mobod[i]).setOneQ(m.state, 0, q_rad[i]);
-  }
+  checkCoordinates(q_rad, "setCoordinateValues");
+  for (Eigen::Index i = 0; i < q_rad.size(); ++i)
+    m.matter.getMobilizedBody(m.coordinate_mobod[i]).setOneQ(m.state, m.coordinate_q[i], q_rad[i]);
   m.q_rad = q_rad;
   m.system.realize(m.state, SimTK::Stage::Position);
 }
@@ -154,17 +239,17 @@ const Eigen::VectorXd& Skeleton::getCoordinateValues() const { return impl_->q_r
 Eigen::Isometry3d Skeleton::getBodyTransform(int body_index) const {
   const Impl& m = *impl_;
   if (body_index < 0 || body_index >= static_cast<int>(m.body_mobod.size()))
-    throw std::out_of_range("Skeleton '" + m.name + "': body index " + std::to_string(body_index) +
+    throw std::out_of_range("Skeleton '" + getName() + "': body index " + std::to_string(body_index) +
                             " out of range [0, " + std::to_string(m.body_mobod.size()) + ")");
   return toEigen(m.matter.getMobilizedBody(m.body_mobod[body_index]).getBodyTransform(m.state));
 }
 
 const std::vector<BodyMesh>& Skeleton::getBodyMeshes(int body_index) const {
   const Impl& m = *impl_;
-  if (body_index < 0 || body_index >= static_cast<int>(m.body_meshes.size()))
-    throw std::out_of_range("Skeleton '" + m.name + "': body index " + std::to_string(body_index) +
-                            " out of range [0, " + std::to_string(m.body_meshes.size()) + ")");
-  return m.body_meshes[body_index];
+  if (body_index < 0 || body_index >= static_cast<int>(m.body_mobod.size()))
+    throw std::out_of_range("Skeleton '" + getName() + "': body index " + std::to_string(body_index) +
+                            " out of range [0, " + std::to_string(m.body_mobod.size()) + ")");
+  return m.description.bodies[static_cast<std::size_t>(body_index)].meshes;
 }
 
 }  // namespace rbfmuscle

@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cerrno>
 #include <cstdio>
 #include <cstdlib>
@@ -23,6 +24,17 @@ std::string trim(const std::string& s) {
   if (b == std::string::npos) return "";
   const auto e = s.find_last_not_of(ws);
   return s.substr(b, e - b + 1);
+}
+
+/// `"text"` → `text`; anything else as it is.
+std::string unquote(const std::string& s) {
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') return trim(s.substr(1, s.size() - 2));
+  return s;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
 }
 
 [[noreturn]] void fail(const std::string& path, int line, const std::string& what) {
@@ -141,7 +153,8 @@ StorageTable readStorage(const std::string& path) {
   long n_rows = -1, n_columns = -1;
   int n_rows_line = 0, n_columns_line = 0;
 
-  // Header: an optional name line, then key=value lines, up to `endheader`.
+  // Header: an optional name line, then key=value lines (OpenSim; keys and values may be
+  // quoted), or `datarows N` / `datacolumns N` (SIMM motion files), up to `endheader`.
   while (std::getline(in, line)) {
     ++line_no;
     const std::string t = trim(line);
@@ -151,14 +164,24 @@ StorageTable readStorage(const std::string& path) {
     }
     const auto eq = t.find('=');
     if (eq == std::string::npos) {
-      if (line_no == 1) table.name = t;
+      std::istringstream words(t);
+      std::string word, count, extra;
+      words >> word >> count;
+      if ((word == "datarows" || word == "datacolumns") && !count.empty() && !(words >> extra)) {
+        const long n = parseCount(path, line_no, word, count);
+        (word == "datarows" ? n_rows : n_columns) = n;
+        (word == "datarows" ? n_rows_line : n_columns_line) = line_no;
+      } else if (line_no == 1) {
+        table.name = t;
+      }
       continue;  // free-text header lines ("Units are S.I. units ...") are allowed
     }
-    const std::string key = trim(t.substr(0, eq));
-    const std::string value = trim(t.substr(eq + 1));
+    const std::string key = unquote(trim(t.substr(0, eq)));
+    const std::string value = unquote(trim(t.substr(eq + 1)));
     if (key == "inDegrees") {
-      if (value == "yes") table.in_degrees = true;
-      else if (value == "no") table.in_degrees = false;
+      const std::string v = lower(value);
+      if (v == "yes" || v == "true") table.in_degrees = true;
+      else if (v == "no" || v == "false") table.in_degrees = false;
       else fail(path, line_no, "header 'inDegrees=" + value + "': expected yes or no");
     } else if (key == "nRows") {
       n_rows = parseCount(path, line_no, key, value);

@@ -3,6 +3,12 @@
 /// OpenSim storage files (.sto/.mot): header lines, `endheader`, one row of
 /// column labels, then tab-separated rows whose first column is time (s).
 /// Also CSV output of the same table.
+///
+/// Header lines read: a first line without '=' is the table's name; `version=1`,
+/// `nRows=N`, `nColumns=N`, `inDegrees=yes|no` (any case; keys and values may be quoted,
+/// `"inDegrees"="yes"`); SIMM's `datarows N` and `datacolumns N`; any other line (free text
+/// such as `Units are S.I. units (second, meters, Newtons, ...)`, quoted or not, or other
+/// keys such as `DataType=double`) is skipped. Counts given are checked against the data.
 #include <string>
 #include <vector>
 
@@ -13,7 +19,7 @@ namespace rbfmuscle {
 /// A table of numbers with labelled columns, as in an OpenSim storage file.
 struct StorageTable {
   std::string name;                         ///< first header line
-  bool in_degrees = false;                  ///< header `inDegrees=yes|no`
+  bool in_degrees = false;                  ///< header `inDegrees=yes|no` (default no)
   std::vector<std::string> column_labels;   ///< column_labels[0] == "time"
   std::vector<std::vector<double>> rows;    ///< each row has column_labels.size() values
   std::vector<int> row_lines;               ///< 1-based file line of each row (readStorage; may be empty)

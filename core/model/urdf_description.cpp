@@ -234,6 +234,45 @@ void checkTree(const std::string& urdf_path, const urdf::ModelInterface& model) 
 
 }  // namespace
 
+SkeletonDescription describeUrdf(const UrdfDescription& urdf) {
+  SkeletonDescription d;
+  d.name = urdf.name;
+  d.path = urdf.path;
+  d.format = "URDF";
+  for (const UrdfLink& link : urdf.links) {
+    SkeletonBody b;
+    b.name = link.name;
+    b.parent = link.parent;
+    b.joint_name = link.joint_name;
+    b.X_PF = link.X_PJ;
+    switch (link.joint_kind) {
+      case UrdfJointKind::kRoot:
+        b.joint_kind = JointKind::kRoot;
+        b.X_PF = Eigen::Isometry3d::Identity();
+        break;
+      case UrdfJointKind::kFixed:
+        b.joint_kind = JointKind::kWeld;
+        break;
+      case UrdfJointKind::kRevolute: {
+        b.joint_kind = JointKind::kPin;
+        b.pin_axis = link.axis_J;
+        b.coordinates.push_back(static_cast<int>(d.coordinates.size()));
+        CoordinateInfo c;
+        c.name = link.joint_name;
+        c.joint = link.joint_name;
+        d.coordinates.push_back(c);
+        break;
+      }
+    }
+    b.mass_kg = link.mass_kg;
+    b.com_B_mm = link.com_B_mm;
+    b.inertia_B_kgmm2 = link.inertia_B_kgmm2;
+    b.meshes = link.meshes;
+    d.bodies.push_back(std::move(b));
+  }
+  return d;
+}
+
 UrdfDescription readUrdf(const std::string& path) {
   const std::string problem = io::findInputFileProblem(path, "a URDF file");
   if (!problem.empty()) throw ModelError(where(path, problem));

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "model/skeleton.h"
+#include "model/skeleton_description.h"
 
 namespace rbfmuscle::detail {
 
@@ -66,5 +67,10 @@ inline constexpr std::uintmax_t kMaxUrdfFileBytes = 64ull << 20;
 ///   a non-finite or implausible origin, mass or inertia, a mesh scale outside the bounds
 ///   above, or a mesh that does not exist.
 UrdfDescription readUrdf(const std::string& path);
+
+/// The same skeleton as the neutral description the Simbody builder reads: the root welded to
+/// ground, fixed joints welded at X_PJ, revolute joints pins about axis_J with X_PF = X_PJ and
+/// X_BM = identity, coordinates named after the revolute joints (rotational, default 0, range ±∞).
+SkeletonDescription describeUrdf(const UrdfDescription& urdf);
 
 }  // namespace rbfmuscle::detail

@@ -116,6 +116,34 @@ TEST(Host, RunsPluginComponentOverFlexionAndReportsAnalyticFemurPoint) {
   EXPECT_NE(summary.find("\"median\""), std::string::npos) << summary;
 }
 
+// The subject's OpenSim model as the skeleton: at rest (every body frame at ground) the femur is
+// at its CT position, and flexion turns it about Z of hip_r's parent frame through the joint
+// centre, both taken from the .osim's numbers here.
+TEST(Host, RunsAnOpenSimSkeletonFromItsRestPose) {
+  const fs::path out = outputDir("femur_point_osim");
+  const HostResult r = runHost("run '" + (kData / "femur_point_osim.xml").string() + "' -o '" + out.string() + "'",
+                               "femur_point_osim");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const StorageTable t = readStorage((out / "outputs.sto").string());
+  ASSERT_EQ(t.rows.size(), 81u);
+  ASSERT_EQ(t.column_labels.size(), 16u);  // time, nine coordinates, two points
+  EXPECT_EQ(t.column_labels[7], "hip_flexion_r");
+  // hip_r: orientation_in_parent (body-fixed XYZ) and location_in_parent of LHDL_hip_r.osim
+  const Eigen::Matrix3d R_PF = (Eigen::AngleAxisd(-2.77372, Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(-1.56193, Eigen::Vector3d::UnitY()) *
+                                Eigen::AngleAxisd(1.80849, Eigen::Vector3d::UnitZ()))
+                                   .toRotationMatrix();
+  const Eigen::Vector3d centre(143.478, 243.439, -432.67);
+  const Eigen::Vector3d knee(118, 265, -840);
+  // 0.001 mm: hip_r's location in pelvis and femur differ by 1 µm
+  EXPECT_TRUE(test::isApprox(pointAt(t, "femur_knee", 0), knee, 0.0, 1.1e-3));
+  for (int row : {40, 80}) {
+    const Eigen::Vector3d expected = centre + Eigen::AngleAxisd(row * M_PI / 180.0, R_PF.col(2)) * (knee - centre);
+    EXPECT_TRUE(test::isApprox(pointAt(t, "femur_knee", row), expected, 0.0, 1.1e-3)) << row;
+    EXPECT_TRUE(test::isApprox(pointAt(t, "pelvis_point", row), Eigen::Vector3d(10, 20, 30), 0.0, 1e-9)) << row;
+  }
+}
+
 TEST(Host, ReplacesAnEarlierOutputAndKeepsItWhenARunFails) {
   const fs::path out = outputDir("rerun");
   const std::string good = "run '" + (kData / "femur_point.xml").string() + "' -o '" + out.string() + "'";
@@ -179,6 +207,10 @@ TEST(HostErrors, UnknownSocketTargetListsBodies) {
 }
 TEST(HostErrors, MissingUrdf) {
   expectFailure("bad_missing_urdf", {"bad_missing_urdf.xml:3: <skeleton>", "no_such_hip.urdf"});
+}
+TEST(HostErrors, RefusedOpenSimJointNamesModelLineAndOsimLine) {
+  expectFailure("bad_osim_joint", {"bad_osim_joint.xml:3: <skeleton>", "unknown_joint.osim, line 13: <BallJoint name=\"knee\">",
+                                   "joint type BallJoint is not supported"});
 }
 TEST(HostErrors, MissingMesh) {
   expectFailure("bad_missing_mesh", {"bad_missing_mesh.xml:3: <skeleton>", "femur_r_missing.ply"});

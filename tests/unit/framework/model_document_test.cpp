@@ -58,6 +58,25 @@ TEST(ModelDocument, DefaultsNameToFileStemAndReportsEverything) {
   EXPECT_EQ(doc.skeleton.path, "/abs/s.urdf");
   EXPECT_TRUE(doc.components.empty());
   EXPECT_EQ(doc.reporter_patterns, std::vector<std::string>{"*"});
+  EXPECT_EQ(doc.skeleton_rest_pose, RestPose::kDefault);
+}
+
+// An OpenSim skeleton, and the rest pose the skeleton element may set.
+TEST(ModelDocument, SkeletonMayBeAnOsimModelWithItsRestPose) {
+  ModelDocument doc = parse(
+      "<RBFMuscleModel version=\"1\"><skeleton file=\"osim/LHDL_hip_r.osim\" rest_pose=\"bodies_at_ground\"/>"
+      "<motion file=\"m.mot\"/></RBFMuscleModel>");
+  EXPECT_EQ(doc.skeleton.path, "/m/osim/LHDL_hip_r.osim");
+  EXPECT_EQ(doc.skeleton_rest_pose, RestPose::kBodiesAtGround);
+  doc = parse("<RBFMuscleModel version=\"1\"><skeleton file=\"s.urdf\" rest_pose=\"default\"/><motion file=\"m.mot\"/>"
+              "</RBFMuscleModel>");
+  EXPECT_EQ(doc.skeleton_rest_pose, RestPose::kDefault);
+  EXPECT_TRUE(throwsWith([] { parse("<RBFMuscleModel version=\"1\">\n<skeleton file=\"s.osim\" rest_pose=\"ct\"/>"
+                                    "<motion file=\"m.mot\"/></RBFMuscleModel>"); },
+                         "/m/scene.xml:2: <skeleton>: rest_pose 'ct' (expected default or bodies_at_ground)"));
+  EXPECT_TRUE(throwsWith([] { parse("<RBFMuscleModel version=\"1\">\n<skeleton file=\"s.osim\"/>\n"
+                                    "<motion file=\"m.mot\" rest_pose=\"default\"/></RBFMuscleModel>"); },
+                         "/m/scene.xml:3: <motion>: unknown attribute 'rest_pose'"));
 }
 
 const char* kHead = "<RBFMuscleModel version=\"1\">\n<skeleton file=\"s.urdf\"/>\n<motion file=\"m.mot\"/>\n";

@@ -135,5 +135,65 @@ TEST_F(HipMotion, MotionPathThatIsADeviceOrDirectoryIsRefusedWithoutReading) {
   expectModelError([&] { Motion::fromFile(kHipDir, *skeleton_); }, {kHipDir, "is a directory, not a regular file"});
 }
 
+// OpenSim models: columns by coordinate name (or OpenSim 4 state path), translational
+// coordinates in metres, degrees only for rotational ones, and coordinates not mentioned at rest.
+class OsimMotion : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    skeleton_ = new Skeleton(Skeleton::fromOsim(kHipDir + "/osim/LHDL_hip_r.osim"));
+    skeleton_->setRestCoordinateValues(skeleton_->solveBodiesAtGround());
+  }
+  static void TearDownTestSuite() { delete skeleton_; }
+  static int index(const char* name) { return skeleton_->findCoordinateIndex(name); }
+  static Skeleton* skeleton_;
+};
+Skeleton* OsimMotion::skeleton_ = nullptr;
+
+TEST_F(OsimMotion, HeaderVariantsDriveCoordinatesByName) {
+  const Eigen::VectorXd& rest = skeleton_->getRestCoordinateValues();
+  TempFile f("osim_degrees.mot");
+  // version, counts, a quoted units line, degrees; a translational column in metres.
+  f.write("hip flexion\nversion=1\nnRows=2\nnColumns=3\ninDegrees=yes\n"
+          "\"Units are S.I. units (second, meters, Newtons, ...)\"\nendheader\n"
+          "time\thip_flexion_r\tpelvis_tx\n0\t10\t0.25\n0.1\t20\t-0.001\n");
+  Motion m = Motion::fromFile(f.path(), *skeleton_);
+  ASSERT_EQ(m.getNumFrames(), 2);
+  EXPECT_NEAR(m.getCoordinates(1)[index("hip_flexion_r")], 20 * kDeg, 1e-15);
+  EXPECT_DOUBLE_EQ(m.getCoordinates(0)[index("pelvis_tx")], 250.0);  // m → mm, not degrees
+  EXPECT_DOUBLE_EQ(m.getCoordinates(1)[index("pelvis_tx")], -1.0);
+  for (const char* other : {"hip_adduction_r", "hip_rotation_r", "pelvis_tilt", "pelvis_tz"})
+    EXPECT_EQ(m.getCoordinates(1)[index(other)], rest[index(other)]) << other;
+
+  // Radians; OpenSim 4 state paths, speeds skipped.
+  f.write("states\ninDegrees=no\nendheader\ntime\t/jointset/hip_r/hip_adduction_r/value\t"
+          "/jointset/hip_r/hip_adduction_r/speed\n0\t0.1\t5\n");
+  m = Motion::fromFile(f.path(), *skeleton_);
+  EXPECT_DOUBLE_EQ(m.getCoordinates(0)[index("hip_adduction_r")], 0.1);
+  EXPECT_EQ(m.getCoordinates(0)[index("hip_flexion_r")], rest[index("hip_flexion_r")]);
+
+  // SIMM header, no inDegrees: radians.
+  f.write("simm\ndatacolumns 2\ndatarows 1\nendheader\ntime hip_rotation_r\n0 0.2\n");
+  EXPECT_DOUBLE_EQ(Motion::fromFile(f.path(), *skeleton_).getCoordinates(0)[index("hip_rotation_r")], 0.2);
+
+  // The same coordinate twice.
+  f.write("m\nendheader\ntime\thip_rotation_r\t/jointset/hip_r/hip_rotation_r/value\n0\t1\t1\n");
+  expectModelError([&] { Motion::fromFile(f.path(), *skeleton_); },
+                   {f.path(), "'hip_rotation_r' and '/jointset/hip_r/hip_rotation_r/value' both give coordinate"});
+}
+
+// The scene's motion: flexion from the rest pose, 1° a frame, by the osim's own coordinate.
+TEST_F(OsimMotion, SceneMotionStartsAtRestAndFlexesBy80Degrees) {
+  const Motion m = Motion::fromFile(kHipDir + "/motions/hip_flexion_osim_0_80.mot", *skeleton_);
+  ASSERT_EQ(m.getNumFrames(), 81);
+  const Eigen::VectorXd& rest = skeleton_->getRestCoordinateValues();
+  EXPECT_LT((m.getCoordinates(0) - rest).cwiseAbs().maxCoeff(), 1e-9);
+  for (int i = 0; i < m.getNumFrames(); ++i) {
+    Eigen::VectorXd expected = rest;
+    expected[index("hip_flexion_r")] += i * kDeg;
+    EXPECT_LT((m.getCoordinates(i) - expected).cwiseAbs().maxCoeff(), 1e-9) << "frame " << i;
+    EXPECT_NEAR(m.getTime(i), i / 30.0, 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace rbfmuscle

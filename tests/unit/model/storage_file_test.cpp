@@ -80,6 +80,37 @@ TEST(StorageFile, ReadsForeignHeaderLines) {
   EXPECT_EQ(r.rows[1][1], -2e-3);
 }
 
+// OpenSim 4's header as it writes it, quoted keys and values, and the header counts checked.
+TEST(StorageFile, ReadsOpenSim4AndQuotedHeaderLines) {
+  TempFile f("opensim4.sto");
+  f.write("Coordinates\nversion=1\nnRows=2\nnColumns=3\ninDegrees=Yes\nDataType=double\n"
+          "OpenSimVersion=4.4\n\"Units are S.I. units (second, meters, Newtons, ...)\"\n"
+          "If the header above contains a line with 'inDegrees', this indicates whether rotational "
+          "values are in degrees (yes) or radians (no).\n\nendheader\n"
+          "time\t/jointset/hip_r/hip_flexion_r/value\t/jointset/hip_r/hip_flexion_r/speed\n0\t1\t0\n0.5\t2\t0\n");
+  const StorageTable r = readStorage(f.path());
+  EXPECT_TRUE(r.in_degrees);
+  EXPECT_EQ(r.rows.size(), 2u);
+  TempFile q("quoted.mot");
+  q.write("m\n\"inDegrees\" = \"no\"\n\"nRows\"=\"1\"\nendheader\ntime\ta\n0\t1\n");
+  EXPECT_FALSE(readStorage(q.path()).in_degrees);
+  q.write("m\n\"nColumns\"=\"3\"\nendheader\ntime\ta\n0\t1\n");
+  expectModelError([&] { readStorage(q.path()); }, {q.path() + ", line 2", "nColumns=3", "2 labels"});
+}
+
+// SIMM's motion header: datacolumns / datarows, a range line, no '='.
+TEST(StorageFile, ReadsSimmDataRowsAndColumns) {
+  TempFile f("simm.mot");
+  f.write("hip motion\ndatacolumns 2\ndatarows 3\nrange 0 1\nendheader\ntime hip_flexion_r\n0 0\n0.5 10\n1 20\n");
+  const StorageTable r = readStorage(f.path());
+  EXPECT_EQ(r.name, "hip motion");
+  EXPECT_FALSE(r.in_degrees);
+  ASSERT_EQ(r.rows.size(), 3u);
+  EXPECT_EQ(r.rows[2][1], 20.0);
+  f.write("hip motion\ndatacolumns 2\ndatarows 4\nendheader\ntime hip_flexion_r\n0 0\n");
+  expectModelError([&] { readStorage(f.path()); }, {f.path() + ", line 3", "nRows=4", "1 data rows"});
+}
+
 TEST(StorageFile, CsvHasLabelRowAndExactNumbers) {
   TempFile f("table.csv");
   StorageTable t;

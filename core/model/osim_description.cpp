@@ -1,0 +1,696 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "model/osim_description.h"
+
+#include <tinyxml2.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <map>
+#include <set>
+#include <sstream>
+
+#include "model/model_error.h"
+#include "model/urdf_description.h"
+
+namespace rbfmuscle::detail {
+namespace {
+
+namespace fs = std::filesystem;
+using tinyxml2::XMLElement;
+
+constexpr int kMaxFrameDepth = 16;  ///< frames attached to frames, at most this deep
+constexpr double kInfinity = std::numeric_limits<double>::infinity();
+
+/// `<Name name="value">` or `<Name>`.
+std::string describe(const XMLElement& e) {
+  std::string text = std::string("<") + e.Name();
+  if (const char* name = e.Attribute("name")) text += std::string(" name=\"") + name + "\"";
+  return text + ">";
+}
+
+std::string trim(const std::string& s) {
+  const char* ws = " \t\r\n";
+  const auto b = s.find_first_not_of(ws);
+  if (b == std::string::npos) return "";
+  return s.substr(b, s.find_last_not_of(ws) - b + 1);
+}
+
+std::vector<std::string> words(const std::string& s) {
+  std::istringstream in(s);
+  std::vector<std::string> out;
+  std::string w;
+  while (in >> w) out.push_back(w);
+  return out;
+}
+
+std::string lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+/// Last component of an OpenSim component path ("/bodyset/pelvis" → "pelvis").
+std::string lastComponent(const std::string& path) {
+  std::string p = trim(path);
+  while (p.size() > 1 && p.back() == '/') p.pop_back();
+  const auto slash = p.rfind('/');
+  return slash == std::string::npos ? p : p.substr(slash + 1);
+}
+
+/// Rotation from OpenSim's body-fixed XYZ angles (rad): Rx(a) · Ry(b) · Rz(c).
+Eigen::Matrix3d bodyFixedXYZ(const Eigen::Vector3d& a) {
+  return (Eigen::AngleAxisd(a.x(), Eigen::Vector3d::UnitX()) * Eigen::AngleAxisd(a.y(), Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(a.z(), Eigen::Vector3d::UnitZ()))
+      .toRotationMatrix();
+}
+
+const XMLElement* child(const XMLElement& e, const char* name) { return e.FirstChildElement(name); }
+
+struct OsimBody {
+  std::string name;
+  const XMLElement* element = nullptr;
+  bool ground = false;
+};
+
+/// A resolved frame: the body it is fixed to and its pose there (mm).
+struct Frame {
+  std::string body;
+  Eigen::Isometry3d X_BF = Eigen::Isometry3d::Identity();
+};
+
+/// A transform axis's function as read: value = slope · q + intercept (model units).
+struct ParsedFunction {
+  bool linear = false;  ///< LinearFunction (needs a coordinate); else a Constant (intercept only)
+  double slope = 0.0;
+  double intercept = 0.0;
+};
+
+struct OsimJoint {
+  const XMLElement* element = nullptr;
+  std::string name, type, parent, child;
+  Eigen::Isometry3d X_PF = Eigen::Isometry3d::Identity();  ///< mm
+  Eigen::Isometry3d X_BM = Eigen::Isometry3d::Identity();  ///< mm
+};
+
+class OsimReader {
+ public:
+  explicit OsimReader(std::string path) : path_(std::move(path)) {
+    dir_ = fs::absolute(fs::path(path_)).parent_path().lexically_normal();
+  }
+
+  SkeletonDescription read();
+
+ private:
+  [[noreturn]] void fail(const XMLElement* e, const std::string& what) const {
+    std::string m = "OpenSim model " + path_;
+    if (e) m += ", line " + std::to_string(e->GetLineNum()) + ": " + describe(*e);
+    throw ModelError(m + ": " + what);
+  }
+
+  /// The numbers of child `name` of `e`; `fallback` when there is no such child.
+  std::vector<double> numbers(const XMLElement& e, const char* name, std::size_t count,
+                              const std::vector<double>& fallback) const {
+    const XMLElement* c = child(e, name);
+    if (!c) {
+      if (fallback.size() != count) fail(&e, std::string("missing <") + name + ">");
+      return fallback;
+    }
+    std::vector<double> out;
+    for (const std::string& w : words(c->GetText() ? c->GetText() : "")) {
+      char* end = nullptr;
+      errno = 0;
+      const double v = std::strtod(w.c_str(), &end);
+      if (*end != '\0' || end == w.c_str() || errno == ERANGE || !std::isfinite(v))
+        fail(c, "'" + w + "' is not a finite number");
+      out.push_back(v);
+    }
+    if (out.size() != count)
+      fail(c, "holds " + std::to_string(out.size()) + " numbers, expected " + std::to_string(count));
+    return out;
+  }
+  Eigen::Vector3d vec3(const XMLElement& e, const char* name, const Eigen::Vector3d& fallback) const {
+    const auto v = numbers(e, name, 3, {fallback.x(), fallback.y(), fallback.z()});
+    return {v[0], v[1], v[2]};
+  }
+  double number(const XMLElement& e, const char* name, double fallback) const {
+    return numbers(e, name, 1, {fallback})[0];
+  }
+  std::string text(const XMLElement& e, const char* name) const {
+    const XMLElement* c = child(e, name);
+    return c && c->GetText() ? trim(c->GetText()) : "";
+  }
+  bool flag(const XMLElement& e, const char* name, bool fallback) const {
+    const std::string t = lower(text(e, name));
+    if (t.empty()) return fallback;
+    if (t == "true" || t == "1") return true;
+    if (t == "false" || t == "0") return false;
+    fail(child(e, name), "'" + t + "' is not true or false");
+  }
+  /// Pose (mm) from a translation and body-fixed XYZ angles.
+  Eigen::Isometry3d pose(const Eigen::Vector3d& translation_model, const Eigen::Vector3d& angles) const {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.linear() = bodyFixedXYZ(angles);
+    X.translation() = to_mm_ * translation_model;
+    return X;
+  }
+
+  void readUnits(const XMLElement& model);
+  void checkConstraints(const XMLElement& model);
+  void collectBodies(const XMLElement& model);
+  void collectJoints(const XMLElement& model);
+  Frame resolveFrame(const XMLElement& joint, const XMLElement* frames, const std::string& path,
+                     const XMLElement* socket, int depth) const;
+  void readMassProperties(const OsimBody& b, SkeletonBody& out) const;
+  void readGeometry(const OsimBody& b, SkeletonBody& out) const;
+  void addMesh(const XMLElement& where, const std::string& file, const Eigen::Isometry3d& X_BM,
+               const Eigen::Vector3d& scale, std::vector<BodyMesh>& out) const;
+  std::string resolveGeometryPath(const XMLElement& where, const std::string& file) const;
+  void readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescription& d) const;
+  std::vector<std::pair<std::string, const XMLElement*>> readCoordinateElements(const XMLElement& joint) const;
+  int addCoordinate(const XMLElement* element, const std::string& name, CoordinateMotion motion,
+                    const std::string& joint, SkeletonDescription& d) const;
+  ParsedFunction readFunction(const XMLElement& axis, const XMLElement& function) const;
+
+  std::string path_;
+  fs::path dir_;
+  double to_mm_ = 1000.0;  ///< model length units → mm
+  std::vector<OsimBody> bodies_;
+  std::vector<OsimJoint> joints_;
+  std::map<std::string, const XMLElement*> body_frames_;  ///< PhysicalOffsetFrames in bodies' components
+};
+
+void OsimReader::readUnits(const XMLElement& model) {
+  const std::string units = lower(text(model, "length_units"));
+  if (units.empty() || units == "meters" || units == "meter" || units == "m" || units == "metres")
+    to_mm_ = 1000.0;
+  else if (units == "millimeters" || units == "millimetres" || units == "mm")
+    to_mm_ = 1.0;
+  else
+    fail(child(model, "length_units"), "length units '" + units + "' are not supported (expected meters or millimeters)");
+}
+
+void OsimReader::checkConstraints(const XMLElement& model) {
+  const XMLElement* set = child(model, "ConstraintSet");
+  const XMLElement* objects = set ? child(*set, "objects") : nullptr;
+  if (!objects) return;
+  for (const XMLElement* c = objects->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    // OpenSim 3.x: isDisabled; 4.x: isEnforced. A constraint switched off constrains nothing.
+    if (flag(*c, "isDisabled", false) || !flag(*c, "isEnforced", true)) continue;
+    fail(c, "constraints are not supported: the skeleton is a tree of joints driven by a prescribed motion "
+            "(give the coupled coordinates in the motion file instead)");
+  }
+}
+
+void OsimReader::collectBodies(const XMLElement& model) {
+  std::set<std::string> names;
+  const auto add = [&](const XMLElement& e, bool ground) {
+    OsimBody b;
+    b.element = &e;
+    const char* name = e.Attribute("name");
+    if (!name || !*name) fail(&e, "missing attribute 'name'");
+    b.name = name;
+    b.ground = ground || b.name == "ground";
+    if (!names.insert(b.name).second) fail(&e, "a second body named '" + b.name + "'");
+    bodies_.push_back(b);
+    if (const XMLElement* components = child(e, "components"))
+      for (const XMLElement* f = components->FirstChildElement("PhysicalOffsetFrame"); f;
+           f = f->NextSiblingElement("PhysicalOffsetFrame"))
+        if (const char* frame_name = f->Attribute("name")) body_frames_[frame_name] = f;
+  };
+  for (const char* tag : {"Ground", "ground"})
+    if (const XMLElement* g = child(model, tag)) add(*g, true);
+  const XMLElement* set = child(model, "BodySet");
+  const XMLElement* objects = set ? child(*set, "objects") : nullptr;
+  if (objects)
+    for (const XMLElement* b = objects->FirstChildElement(); b; b = b->NextSiblingElement()) {
+      if (std::strcmp(b->Name(), "Body") != 0) fail(b, "expected <Body> in the BodySet");
+      add(*b, false);
+    }
+  const auto grounds = std::count_if(bodies_.begin(), bodies_.end(), [](const OsimBody& b) { return b.ground; });
+  if (grounds != 1)
+    fail(&model, grounds == 0 ? "no ground (expected <Ground name=\"ground\"> or a Body named 'ground')"
+                              : "more than one ground");
+}
+
+Frame OsimReader::resolveFrame(const XMLElement& joint, const XMLElement* frames, const std::string& path,
+                               const XMLElement* socket, int depth) const {
+  if (depth > kMaxFrameDepth)
+    fail(socket, "frames attached to frames nest deeper than " + std::to_string(kMaxFrameDepth) + " (a cycle?)");
+  const std::string name = lastComponent(path);
+  if (name.empty()) fail(socket, "names no frame");
+  const XMLElement* offset = nullptr;
+  if (frames)
+    for (const XMLElement* f = frames->FirstChildElement("PhysicalOffsetFrame"); f && !offset;
+         f = f->NextSiblingElement("PhysicalOffsetFrame"))
+      if (const char* n = f->Attribute("name"); n && name == n) offset = f;
+  const std::string* owner_body = nullptr;  // a body-component frame's ".." is its body
+  if (!offset) {
+    const auto it = body_frames_.find(name);
+    if (it != body_frames_.end()) {
+      offset = it->second;
+      for (const OsimBody& b : bodies_)
+        if (const XMLElement* components = child(*b.element, "components"))
+          if (offset->Parent() == components) owner_body = &b.name;
+    }
+  }
+  if (offset) {
+    std::string parent_path = text(*offset, "socket_parent");
+    if (parent_path.empty()) parent_path = text(*offset, "socket_parent_connectee_name");
+    if (parent_path.empty()) fail(offset, "has no socket_parent");
+    if ((parent_path == ".." || parent_path == "../") && owner_body) parent_path = *owner_body;
+    const XMLElement* parent_socket = child(*offset, "socket_parent");
+    Frame parent = resolveFrame(joint, frames, parent_path, parent_socket ? parent_socket : offset, depth + 1);
+    parent.X_BF = parent.X_BF * pose(vec3(*offset, "translation", Eigen::Vector3d::Zero()),
+                                     vec3(*offset, "orientation", Eigen::Vector3d::Zero()));
+    return parent;
+  }
+  for (const OsimBody& b : bodies_)
+    if (b.name == name) return Frame{b.name, Eigen::Isometry3d::Identity()};
+  fail(socket, "frame '" + path + "' is neither a PhysicalOffsetFrame of " + describe(joint) +
+                   " or of a body, nor a body or ground");
+}
+
+void OsimReader::collectJoints(const XMLElement& model) {
+  // OpenSim 3.x: each body's joint nested in it.
+  for (const OsimBody& b : bodies_) {
+    const XMLElement* holder = child(*b.element, "Joint");
+    if (!holder) continue;
+    const XMLElement* e = holder->FirstChildElement();
+    if (!e) continue;  // <Joint/>: ground, or a body left unconnected (found below)
+    if (e->NextSiblingElement()) fail(e->NextSiblingElement(), "a body's <Joint> holds one joint, found a second");
+    OsimJoint j;
+    j.element = e;
+    j.type = e->Name();
+    j.name = e->Attribute("name") ? e->Attribute("name") : "";
+    j.child = b.name;
+    j.parent = text(*e, "parent_body");
+    if (j.parent.empty()) fail(e, "missing <parent_body>");
+    j.X_PF = pose(vec3(*e, "location_in_parent", Eigen::Vector3d::Zero()),
+                  vec3(*e, "orientation_in_parent", Eigen::Vector3d::Zero()));
+    j.X_BM = pose(vec3(*e, "location", Eigen::Vector3d::Zero()), vec3(*e, "orientation", Eigen::Vector3d::Zero()));
+    joints_.push_back(j);
+  }
+  // OpenSim 4.x: a JointSet whose joints name their frames.
+  const XMLElement* set = child(model, "JointSet");
+  const XMLElement* objects = set ? child(*set, "objects") : nullptr;
+  if (!objects) return;
+  for (const XMLElement* e = objects->FirstChildElement(); e; e = e->NextSiblingElement()) {
+    OsimJoint j;
+    j.element = e;
+    j.type = e->Name();
+    j.name = e->Attribute("name") ? e->Attribute("name") : "";
+    const XMLElement* frames = child(*e, "frames");
+    const auto socket = [&](const char* name) -> const XMLElement* {
+      if (const XMLElement* s = child(*e, name)) return s;
+      return child(*e, (std::string(name) + "_connectee_name").c_str());
+    };
+    const XMLElement* parent_socket = socket("socket_parent_frame");
+    const XMLElement* child_socket = socket("socket_child_frame");
+    if (!parent_socket || !child_socket)
+      fail(e, "expected <socket_parent_frame> and <socket_child_frame>");
+    const Frame parent = resolveFrame(*e, frames, parent_socket->GetText() ? parent_socket->GetText() : "", parent_socket, 0);
+    const Frame child_frame = resolveFrame(*e, frames, child_socket->GetText() ? child_socket->GetText() : "", child_socket, 0);
+    j.parent = parent.body;
+    j.child = child_frame.body;
+    j.X_PF = parent.X_BF;
+    j.X_BM = child_frame.X_BF;
+    joints_.push_back(j);
+  }
+}
+
+void OsimReader::readMassProperties(const OsimBody& b, SkeletonBody& out) const {
+  const XMLElement& e = *b.element;
+  const double mass = number(e, "mass", 0.0);
+  if (!(mass > 0.0)) {
+    out.mass_kg = kDefaultLinkMass_kg;
+    out.inertia_B_kgmm2 = kDefaultLinkMass_kg * Eigen::Matrix3d::Identity();
+    return;
+  }
+  out.mass_kg = mass;
+  const Eigen::Vector3d c = to_mm_ * vec3(e, "mass_center", Eigen::Vector3d::Zero());
+  Eigen::Matrix3d I_C;  // about the mass centre, in body axes, model units
+  if (child(e, "inertia")) {  // 4.x: Ixx Iyy Izz Ixy Ixz Iyz
+    const auto v = numbers(e, "inertia", 6, {});
+    I_C << v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2];
+  } else {
+    const double xx = number(e, "inertia_xx", 0), yy = number(e, "inertia_yy", 0), zz = number(e, "inertia_zz", 0);
+    const double xy = number(e, "inertia_xy", 0), xz = number(e, "inertia_xz", 0), yz = number(e, "inertia_yz", 0);
+    I_C << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+  }
+  out.com_B_mm = c;
+  out.inertia_B_kgmm2 = to_mm_ * to_mm_ * I_C + mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+}
+
+std::string OsimReader::resolveGeometryPath(const XMLElement& where, const std::string& file) const {
+  std::string name = trim(file);
+  std::replace(name.begin(), name.end(), '\\', '/');
+  const fs::path as_written(name);
+  std::vector<fs::path> candidates;
+  candidates.push_back(as_written.is_absolute() ? as_written : dir_ / as_written);
+  candidates.push_back(dir_ / "Geometry" / as_written.filename());
+  candidates.push_back(dir_ / "geometry" / as_written.filename());
+  std::string tried;
+  for (const fs::path& p : candidates) {
+    const fs::path normal = p.lexically_normal();
+    if (fs::is_regular_file(normal)) return normal.string();
+    tried += (tried.empty() ? "" : ", ") + normal.string();
+  }
+  fail(&where, "geometry file '" + file + "' not found (looked for " + tried + ")");
+}
+
+void OsimReader::addMesh(const XMLElement& where, const std::string& file, const Eigen::Isometry3d& X_BM,
+                         const Eigen::Vector3d& scale, std::vector<BodyMesh>& out) const {
+  if (trim(file).empty()) return;
+  const std::string ext = lower(fs::path(trim(file)).extension().string());
+  if (ext != ".vtp" && ext != ".stl" && ext != ".obj" && ext != ".ply")
+    fail(&where, "geometry file '" + file + "': extension '" + ext + "' is not supported (expected .vtp, .stl, .obj or .ply)");
+  BodyMesh m;
+  m.path = resolveGeometryPath(where, file);
+  m.X_BM = X_BM;
+  m.scale_to_mm = to_mm_ * scale;
+  m.collision = false;
+  out.push_back(std::move(m));
+}
+
+void OsimReader::readGeometry(const OsimBody& b, SkeletonBody& out) const {
+  const XMLElement& e = *b.element;
+  // OpenSim 3.x: VisibleObject.
+  if (const XMLElement* visible = child(e, "VisibleObject")) {
+    const Eigen::Vector3d outer_scale = vec3(*visible, "scale_factors", Eigen::Vector3d::Ones());
+    const auto outer = numbers(*visible, "transform", 6, {0, 0, 0, 0, 0, 0});
+    const Eigen::Isometry3d X_outer = pose({outer[3], outer[4], outer[5]}, {outer[0], outer[1], outer[2]});
+    if (const XMLElement* list = child(*visible, "geometry_files"))
+      for (const std::string& file : words(list->GetText() ? list->GetText() : ""))
+        addMesh(*list, file, X_outer, outer_scale, out.meshes);
+    const XMLElement* set = child(*visible, "GeometrySet");
+    const XMLElement* objects = set ? child(*set, "objects") : nullptr;
+    if (objects)
+      for (const XMLElement* g = objects->FirstChildElement("DisplayGeometry"); g;
+           g = g->NextSiblingElement("DisplayGeometry")) {
+        const auto inner = numbers(*g, "transform", 6, {0, 0, 0, 0, 0, 0});
+        const Eigen::Isometry3d X_inner = pose({inner[3], inner[4], inner[5]}, {inner[0], inner[1], inner[2]});
+        const Eigen::Vector3d scale = outer_scale.cwiseProduct(vec3(*g, "scale_factors", Eigen::Vector3d::Ones()));
+        addMesh(*g, text(*g, "geometry_file"), X_outer * X_inner, scale, out.meshes);
+      }
+  }
+  // OpenSim 4.x: attached_geometry of the body and of frames among its components.
+  const auto attached = [&](const XMLElement& owner, const Eigen::Isometry3d& X_BF) {
+    const XMLElement* list = child(owner, "attached_geometry");
+    if (!list) return;
+    for (const XMLElement* g = list->FirstChildElement("Mesh"); g; g = g->NextSiblingElement("Mesh")) {
+      const std::string frame = text(*g, "socket_frame");
+      if (!frame.empty() && frame != ".." && frame != "../" && lastComponent(frame) != lastComponent(owner.Attribute("name") ? owner.Attribute("name") : ""))
+        fail(g, "socket_frame '" + frame + "': a mesh must be attached to the frame that lists it");
+      addMesh(*g, text(*g, "mesh_file"), X_BF, vec3(*g, "scale_factors", Eigen::Vector3d::Ones()), out.meshes);
+    }
+  };
+  attached(e, Eigen::Isometry3d::Identity());
+  if (const XMLElement* components = child(e, "components"))
+    for (const XMLElement* f = components->FirstChildElement("PhysicalOffsetFrame"); f;
+         f = f->NextSiblingElement("PhysicalOffsetFrame")) {
+      if (!child(*f, "attached_geometry")) continue;
+      const std::string parent = text(*f, "socket_parent");
+      if (!(parent == ".." || parent == "../" || lastComponent(parent) == b.name))
+        fail(f, "a frame carrying geometry among a body's components must be attached to that body (socket_parent '..')");
+      attached(*f, pose(vec3(*f, "translation", Eigen::Vector3d::Zero()), vec3(*f, "orientation", Eigen::Vector3d::Zero())));
+    }
+}
+
+std::vector<std::pair<std::string, const XMLElement*>> OsimReader::readCoordinateElements(const XMLElement& joint) const {
+  std::vector<std::pair<std::string, const XMLElement*>> out;
+  const XMLElement* list = nullptr;
+  if (const XMLElement* set = child(joint, "CoordinateSet")) list = child(*set, "objects");  // 3.x
+  if (!list) list = child(joint, "coordinates");                                            // 4.x
+  if (!list) return out;
+  for (const XMLElement* c = list->FirstChildElement(); c; c = c->NextSiblingElement()) {
+    if (std::strcmp(c->Name(), "Coordinate") != 0) fail(c, "expected <Coordinate>");
+    const char* name = c->Attribute("name");
+    if (!name || !*name) fail(c, "missing attribute 'name'");
+    out.emplace_back(name, c);
+  }
+  return out;
+}
+
+int OsimReader::addCoordinate(const XMLElement* element, const std::string& name, CoordinateMotion motion,
+                              const std::string& joint, SkeletonDescription& d) const {
+  for (const CoordinateInfo& c : d.coordinates)
+    if (c.name == name) fail(element, "a second coordinate named '" + name + "' (also in joint '" + c.joint + "')");
+  CoordinateInfo c;
+  c.name = name;
+  c.motion = motion;
+  c.joint = joint;
+  if (element) {
+    const double scale = motion == CoordinateMotion::kTranslational ? to_mm_ : 1.0;
+    const auto range = numbers(*element, "range", 2, {-kInfinity, kInfinity});
+    c.range_min = scale * range[0];
+    c.range_max = scale * range[1];
+    c.default_value = scale * number(*element, "default_value", 0.0);
+  }
+  d.coordinates.push_back(c);
+  return static_cast<int>(d.coordinates.size()) - 1;
+}
+
+/// A LinearFunction or a Constant, also inside a MultiplierFunction; values in model units.
+ParsedFunction OsimReader::readFunction(const XMLElement& axis, const XMLElement& function) const {
+  const std::string type = function.Name();
+  ParsedFunction f;
+  if (type == "LinearFunction") {
+    const auto c = numbers(function, "coefficients", 2, {});
+    f.linear = true;
+    f.slope = c[0];
+    f.intercept = c[1];
+    return f;
+  }
+  if (type == "Constant") {
+    f.intercept = number(function, "value", 0.0);
+    return f;
+  }
+  if (type == "MultiplierFunction") {
+    const double scale = number(function, "scale", 1.0);
+    const XMLElement* inner = nullptr;
+    if (const XMLElement* wrapper = child(function, "function")) inner = wrapper->FirstChildElement();
+    if (!inner)
+      for (const XMLElement* c = function.FirstChildElement(); c && !inner; c = c->NextSiblingElement())
+        if (std::strcmp(c->Name(), "scale") != 0) inner = c;
+    if (!inner) fail(&function, "has no function to multiply");
+    const std::string inner_type = inner->Name();
+    if (inner_type != "LinearFunction" && inner_type != "Constant")
+      fail(inner, "in " + describe(axis) + ": a MultiplierFunction of a " + inner_type +
+                      " couples its coordinate non-linearly; only LinearFunction and Constant (also inside a "
+                      "MultiplierFunction) are supported");
+    ParsedFunction g = readFunction(axis, *inner);
+    g.slope *= scale;
+    g.intercept *= scale;
+    return g;
+  }
+  fail(&function, "in " + describe(axis) + ": function type " + type +
+                      " is not supported (expected LinearFunction or Constant, also inside a MultiplierFunction)");
+}
+
+void OsimReader::readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescription& d) const {
+  const XMLElement& e = *j.element;
+  out.joint_name = j.name;
+  out.X_PF = j.X_PF;
+  out.X_BM = j.X_BM;
+  if (flag(e, "reverse", false))
+    fail(child(e, "reverse"), "reversed joints are not supported (the joint must move the child body '" + j.child +
+                                  "' relative to the parent '" + j.parent + "')");
+  const auto coordinates = readCoordinateElements(e);
+  if (j.type == "WeldJoint") {
+    if (!coordinates.empty()) fail(coordinates.front().second, "a WeldJoint has no coordinates");
+    out.joint_kind = JointKind::kWeld;
+    return;
+  }
+  if (j.type == "PinJoint") {
+    if (coordinates.size() != 1)
+      fail(&e, "a PinJoint has one coordinate, found " + std::to_string(coordinates.size()));
+    out.joint_kind = JointKind::kPin;
+    out.pin_axis = Eigen::Vector3d::UnitZ();
+    out.coordinates.push_back(addCoordinate(coordinates[0].second, coordinates[0].first, CoordinateMotion::kRotational, j.name, d));
+    return;
+  }
+  if (j.type != "CustomJoint")
+    fail(&e, "joint type " + j.type + " is not supported (expected CustomJoint, PinJoint or WeldJoint)");
+
+  out.joint_kind = JointKind::kSpatial;
+  const XMLElement* st = child(e, "SpatialTransform");
+  if (!st) fail(&e, "a CustomJoint needs a <SpatialTransform>");
+  static const char* const kAxisNames[6] = {"rotation1", "rotation2", "rotation3", "translation1", "translation2", "translation3"};
+  const XMLElement* axes[6] = {};
+  for (const XMLElement* a = st->FirstChildElement("TransformAxis"); a; a = a->NextSiblingElement("TransformAxis")) {
+    const char* name = a->Attribute("name");
+    int k = -1;
+    for (int i = 0; i < 6; ++i)
+      if (name && std::strcmp(name, kAxisNames[i]) == 0) k = i;
+    if (k < 0) fail(a, "expected TransformAxis named rotation1, rotation2, rotation3, translation1, translation2 or translation3");
+    if (axes[k]) fail(a, std::string("a second TransformAxis ") + kAxisNames[k]);
+    axes[k] = a;
+  }
+  for (int i = 0; i < 6; ++i)
+    if (!axes[i]) fail(st, std::string("missing TransformAxis ") + kAxisNames[i]);
+
+  // Each axis's function (3.x: inside <function>; 4.x: the axis's child named "function"),
+  // checked to be one the reader supports before anything else is said about the axis.
+  const XMLElement* functions[6] = {};
+  for (int i = 0; i < 6; ++i) {
+    const XMLElement& a = *axes[i];
+    if (const XMLElement* wrapper = child(a, "function")) functions[i] = wrapper->FirstChildElement();
+    if (!functions[i])
+      for (const XMLElement* c = a.FirstChildElement(); c && !functions[i]; c = c->NextSiblingElement())
+        if (std::strcmp(c->Name(), "coordinates") != 0 && std::strcmp(c->Name(), "axis") != 0) functions[i] = c;
+    if (functions[i]) readFunction(a, *functions[i]);
+  }
+
+  // Which axis each coordinate drives (at most one).
+  std::map<std::string, int> driven_axis;
+  std::vector<std::string> axis_coordinate(6);
+  for (int i = 0; i < 6; ++i) {
+    const XMLElement& a = *axes[i];
+    const std::vector<std::string> names = words(text(a, "coordinates"));
+    if (names.size() > 1)
+      fail(&a, "is driven by " + std::to_string(names.size()) + " coordinates; at most one per axis is supported");
+    const Eigen::Vector3d v = vec3(a, "axis", Eigen::Vector3d::Zero());
+    if (!(v.norm() > 1e-12)) fail(child(a, "axis") ? child(a, "axis") : &a, "zero-length axis");
+    out.axes[static_cast<std::size_t>(i)] = v.normalized();
+    if (names.empty()) continue;
+    const auto [it, inserted] = driven_axis.emplace(names[0], i);
+    if (!inserted)
+      fail(&a, "coordinate '" + names[0] + "' also drives TransformAxis " + kAxisNames[it->second] + " (line " +
+                   std::to_string(axes[it->second]->GetLineNum()) +
+                   "): a coordinate coupled into two transform axes is not supported");
+    axis_coordinate[static_cast<std::size_t>(i)] = names[0];
+  }
+  for (int group = 0; group < 6; group += 3)
+    for (int a = group; a < group + 3; ++a)
+      for (int b = a + 1; b < group + 3; ++b)
+        if (out.axes[static_cast<std::size_t>(a)].cross(out.axes[static_cast<std::size_t>(b)]).norm() < 1e-5)
+          fail(axes[b], std::string("axis is collinear with ") + kAxisNames[a] + "'s; the axes of a CustomJoint must be independent");
+
+  // Coordinates in the joint's order, then any an axis names without declaring.
+  std::vector<std::pair<std::string, const XMLElement*>> ordered = coordinates;
+  for (int i = 0; i < 6; ++i) {
+    const std::string& name = axis_coordinate[static_cast<std::size_t>(i)];
+    if (name.empty()) continue;
+    if (std::none_of(ordered.begin(), ordered.end(), [&](const auto& c) { return c.first == name; }))
+      ordered.emplace_back(name, nullptr);
+  }
+  for (const auto& [name, element] : ordered) {
+    const auto it = driven_axis.find(name);
+    if (it == driven_axis.end())
+      fail(element, "coordinate '" + name + "' drives no TransformAxis of " + describe(e) + " (it would move nothing)");
+    const int index = addCoordinate(element, name, it->second < 3 ? CoordinateMotion::kRotational : CoordinateMotion::kTranslational,
+                                    j.name, d);
+    out.coordinates.push_back(index);
+  }
+
+  for (int i = 0; i < 6; ++i) {
+    const XMLElement& a = *axes[i];
+    const XMLElement* function = functions[i];
+    const std::string& coordinate = axis_coordinate[static_cast<std::size_t>(i)];
+    AxisFunction f;
+    if (!function) {
+      if (!coordinate.empty()) fail(&a, "names coordinate '" + coordinate + "' but has no function");
+    } else {
+      const ParsedFunction parsed = readFunction(a, *function);
+      const bool linear = parsed.linear;
+      f.slope = parsed.slope;
+      f.intercept = parsed.intercept;
+      if (linear && coordinate.empty())
+        fail(function, "in " + describe(a) + ": a LinearFunction needs a coordinate, the axis names none");
+      if (!linear && !coordinate.empty())
+        fail(function, "in " + describe(a) + ": names coordinate '" + coordinate +
+                           "' but its function is a Constant (the coordinate would move nothing)");
+      if (linear && f.slope == 0.0)
+        fail(function, "in " + describe(a) + ": slope 0 (coordinate '" + coordinate + "' would move nothing)");
+    }
+    f.coordinate = -1;
+    if (!coordinate.empty())
+      for (int index : out.coordinates)
+        if (d.coordinates[static_cast<std::size_t>(index)].name == coordinate) f.coordinate = index;
+    if (i >= 3) f.intercept *= to_mm_;  // translation values: model units → mm; slopes stay (mm per mm)
+    out.functions[static_cast<std::size_t>(i)] = f;
+  }
+}
+
+SkeletonDescription OsimReader::read() {
+  {
+    std::ifstream probe(path_);
+    if (!probe) throw ModelError("OpenSim model " + path_ + ": cannot open the file (missing or unreadable)");
+  }
+  tinyxml2::XMLDocument doc;
+  if (doc.LoadFile(path_.c_str()) != tinyxml2::XML_SUCCESS)
+    throw ModelError("OpenSim model " + path_ + ", line " + std::to_string(doc.ErrorLineNum()) +
+                     ": not well-formed XML (" + doc.ErrorName() + ")");
+  const XMLElement* root = doc.RootElement();
+  const XMLElement* model = nullptr;
+  if (root && std::strcmp(root->Name(), "OpenSimDocument") == 0) model = child(*root, "Model");
+  else if (root && std::strcmp(root->Name(), "Model") == 0) model = root;
+  if (!model) fail(root, "expected <OpenSimDocument> holding a <Model>");
+
+  readUnits(*model);
+  checkConstraints(*model);
+  collectBodies(*model);
+  collectJoints(*model);
+
+  SkeletonDescription d;
+  d.name = model->Attribute("name") ? model->Attribute("name") : fs::path(path_).stem().string();
+  d.path = path_;
+  d.format = "OpenSim model";
+
+  // Each body but ground is the child of exactly one joint.
+  std::map<std::string, const OsimJoint*> joint_of;
+  for (const OsimJoint& j : joints_) {
+    const auto known = [&](const std::string& name) {
+      return std::any_of(bodies_.begin(), bodies_.end(), [&](const OsimBody& b) { return b.name == name; });
+    };
+    if (!known(j.parent)) fail(j.element, "parent body '" + j.parent + "' is not a body of the model");
+    if (!known(j.child)) fail(j.element, "child body '" + j.child + "' is not a body of the model");
+    if (j.child == j.parent) fail(j.element, "joins body '" + j.child + "' to itself");
+    const OsimBody& child_body = *std::find_if(bodies_.begin(), bodies_.end(), [&](const OsimBody& b) { return b.name == j.child; });
+    if (child_body.ground) fail(j.element, "moves ground (reversed joints are not supported)");
+    if (!joint_of.emplace(j.child, &j).second)
+      fail(j.element, "body '" + j.child + "' already hangs on joint '" + joint_of[j.child]->name +
+                          "' (line " + std::to_string(joint_of[j.child]->element->GetLineNum()) +
+                          "): closed loops are not supported");
+  }
+  for (const OsimBody& b : bodies_)
+    if (!b.ground && joint_of.count(b.name) == 0) fail(b.element, "body '" + b.name + "' has no joint to a parent body");
+
+  // Depth first from ground; bodies in file order among siblings.
+  const OsimBody& ground = *std::find_if(bodies_.begin(), bodies_.end(), [](const OsimBody& b) { return b.ground; });
+  std::vector<std::pair<const OsimBody*, int>> stack{{&ground, -1}};
+  std::set<std::string> placed;
+  while (!stack.empty()) {  // each body is pushed once: at most bodies_.size() rounds
+    const auto [body, parent] = stack.back();
+    stack.pop_back();
+    placed.insert(body->name);
+    SkeletonBody out;
+    out.name = body->name;
+    out.parent = parent;
+    if (parent >= 0) readJoint(*joint_of.at(body->name), out, d);
+    readMassProperties(*body, out);
+    readGeometry(*body, out);
+    d.bodies.push_back(std::move(out));
+    const int self = static_cast<int>(d.bodies.size()) - 1;
+    for (auto it = bodies_.rbegin(); it != bodies_.rend(); ++it) {
+      const auto j = joint_of.find(it->name);
+      if (j != joint_of.end() && j->second->parent == body->name) stack.emplace_back(&*it, self);
+    }
+  }
+  for (const OsimBody& b : bodies_)
+    if (placed.count(b.name) == 0)
+      fail(b.element, "body '" + b.name + "' is not connected to ground (its joints form a loop apart from it)");
+  return d;
+}
+
+}  // namespace
+
+SkeletonDescription readOsim(const std::string& path) { return OsimReader(path).read(); }
+
+}  // namespace rbfmuscle::detail
