@@ -6,7 +6,7 @@ clustering) and the fibre length curves against the hip angle.
 Needs python3-numpy and python3-matplotlib (Debian) and a built host.
     /usr/bin/python3 scripts/render_hip.py                    # runs the 10-degree motion with --frames-mesh
     /usr/bin/python3 scripts/render_hip.py --run out/flexion  # uses an earlier run (needs meshes/ for the 3-D picture)
-Writes REPORT/hip_flexion_0_40_80.png, REPORT/fibre_lengths.png and a section of REPORT/README.md.
+Writes REPORT/hip_flexion_0_40_80.png and REPORT/fibre_lengths.png (REPORT: docs/pictures).
 
 Bones: the pelvis mesh as is (pelvis welded to ground) and the femur mesh moved by the
 hip joints of the URDF at each frame's coordinates (read from outputs.sto). Muscles:
@@ -24,8 +24,6 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import bench_io  # noqa: E402
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-BEGIN = "<!-- BEGIN render_hip.py (generated: edits inside are overwritten) -->"
-END = "<!-- END render_hip.py -->"
 MUSCLE_COLOURS = ["#c0392b", "#e67e22", "#8e44ad", "#16a085"]
 BONE_COLOUR = "#e8e2d0"
 
@@ -38,7 +36,7 @@ def parse_args():
                    help="motion of the run this script makes (ignored with --run)")
     p.add_argument("--run", default=None, help="an earlier run's OUTDIR instead of running the host")
     p.add_argument("--out", default=os.path.join(ROOT, "out/render_hip"), help="OUTDIR of the run made here")
-    p.add_argument("--report", default=os.path.join(ROOT, "report"))
+    p.add_argument("--report", default=os.path.join(ROOT, "docs", "pictures"), help="directory of the pictures")
     p.add_argument("--angles", default="0,40,80", help="flexion angles (deg) of the 3-D pictures")
     p.add_argument("--cell-mm", type=float, default=4.0, help="decimation cell of the bone meshes (mm)")
     p.add_argument("--fibres", type=int, default=0, help="draw every N-th fibre over the muscles (0 = none)")
@@ -163,11 +161,11 @@ def plot_fibres(model, sto, report):
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.6))
     for j, name in enumerate(names):
         colour = MUSCLE_COLOURS[j % len(MUSCLE_COLOURS)]
-        if sto.has(f"{name}.fiber_length_mean_mm"):
-            mean = sto[f"{name}.fiber_length_mean_mm"]
+        if sto.has(f"{name}.fibre_length_mean_mm"):
+            mean = sto[f"{name}.fibre_length_mean_mm"]
             axes[0].plot(angle, mean, color=colour, marker=".", label=f"{name} mean fibre")
-            if sto.has(f"{name}.fiber_length_min_mm"):
-                axes[0].fill_between(angle, sto[f"{name}.fiber_length_min_mm"], sto[f"{name}.fiber_length_max_mm"],
+            if sto.has(f"{name}.fibre_length_min_mm"):
+                axes[0].fill_between(angle, sto[f"{name}.fibre_length_min_mm"], sto[f"{name}.fibre_length_max_mm"],
                                      color=colour, alpha=0.15, label=f"{name} min–max")
             axes[1].plot(angle, mean / mean[0], color=colour, marker=".", label=f"{name} mean fibre")
         if sto.has(f"{name}.line_of_action_length_mm"):
@@ -186,17 +184,6 @@ def plot_fibres(model, sto, report):
     fig.savefig(out, dpi=100)
     plt.close(fig)
     return out
-
-
-def update_readme(report, run_dir, motion, command, pictures):
-    body = [BEGIN, "", "## Pictures", "",
-            f"From the run in `{os.path.relpath(run_dir, ROOT)}` ({motion}); reproduce with "
-            f"`{command}` (it runs `rbfmuscle run MODEL --motion MOTION --frames-mesh`; `--run OUTDIR` reuses a "
-            "run). Bones: pelvis at rest, femur moved by the URDF hip joints; muscles: the per-frame surfaces "
-            "(f = 0, `surface_cell_mm` grid), decimated for drawing.", ""]
-    body += [f"![{os.path.basename(p)}]({os.path.basename(p)})" for p in pictures] + ["", END]
-    bench_io.replace_marked_section(os.path.join(report, "README.md"), BEGIN, END, "\n".join(body),
-                                    "# rbfmuscle report\n\n")
 
 
 def main():
@@ -222,7 +209,6 @@ def main():
     command = "/usr/bin/python3 " + " ".join([os.path.relpath(os.path.abspath(sys.argv[0]), ROOT)] + argv)
     flexion = sto.angle_deg("hip_flexion_r")
     motion = f"{len(flexion)} frames, flexion {flexion.min():.0f}–{flexion.max():.0f}°"
-    update_readme(args.report, run_dir, motion, command, pictures)
     for p in pictures:
         print("render_hip: wrote " + os.path.relpath(p, ROOT))
 
