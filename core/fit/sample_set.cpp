@@ -2,6 +2,7 @@
 
 #include "fit/halton.h"
 #include "geometry/mesh_distance.h"
+#include "geometry/winding_number.h"
 
 namespace rbfmuscle {
 
@@ -31,6 +32,20 @@ Eigen::AlignedBox3d calcPaddedBox(const TriangleMesh& mesh, double padding_fract
   return box;
 }
 
+Eigen::VectorXd calcSolidSignedDistances(const MeshDistance& distance, const WindingNumber& winding,
+                                         const Eigen::Matrix3Xd& points_mm, int* resigned) {
+  Eigen::VectorXd s = distance.calcSignedDistances(points_mm);
+  const Eigen::Array<bool, Eigen::Dynamic, 1> inside = winding.calcInside(points_mm);
+  int disagree = 0;
+  for (Eigen::Index i = 0; i < s.size(); ++i) {
+    if (s[i] == 0.0 || (s[i] < 0.0) == inside[i]) continue;
+    s[i] = -s[i];
+    ++disagree;
+  }
+  if (resigned) *resigned = disagree;
+  return s;
+}
+
 SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance,
                        const FitSettings& settings) {
   const Eigen::Index V = mesh_M.vertices_mm.cols();
@@ -50,7 +65,9 @@ SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance,
   std::fill_n(samples.kinds.begin() + V, V, SampleKind::kOffsetIn);
   std::fill_n(samples.kinds.begin() + 2 * V, V, SampleKind::kOffsetOut);
 
-  samples.signed_distance_mm = distance.calcSignedDistances(samples.points_mm);
+  const WindingNumber winding(mesh_M);
+  samples.signed_distance_mm =
+      calcSolidSignedDistances(distance, winding, samples.points_mm, &samples.resigned_samples);
   // Vertices lie on the surface by definition; the query only adds round-off there.
   samples.signed_distance_mm.head(V).setZero();
   const double tau = settings.clamp_mm;
