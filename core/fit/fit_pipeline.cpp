@@ -45,6 +45,8 @@ MeshFit fitPrepared(const PreparedMesh& prepared, const std::string& mesh_path,
   result.rounds = fit.rounds;
   result.stop_reason = fit.stop_reason;
   result.final_refit = fit.final_refit;
+  result.check_samples_added = fit.check_samples_added;
+  result.resigned_samples = samples.resigned_samples;
   result.metrics = measureFit(fit.field, distance, samples.box_mm, settings);
   result.surface.field = std::move(fit.field);
   result.surface.frame_offset_mm = prepared.offset_mm;

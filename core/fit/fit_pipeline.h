@@ -18,6 +18,8 @@ struct MeshFit {
   int rounds = 0;
   std::string stop_reason;   ///< why the greedy loop ended (see GreedyFitResult)
   RefitReport final_refit;   ///< how the last weight refit ended
+  int check_samples_added = 0;  ///< check points the fit made samples (see fitGreedy)
+  int resigned_samples = 0;     ///< samples whose side the winding number decided (see SampleSet)
   double seconds = 0.0;  ///< wall time of sampling + fit (metrics excluded)
 };
 

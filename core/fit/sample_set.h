@@ -6,6 +6,9 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cstdint>
+#include <vector>
+
 #include "fit/fit_settings.h"
 #include "geometry/triangle_mesh.h"
 
@@ -15,7 +18,7 @@ class MeshDistance;
 class WindingNumber;
 
 /// Where a sample came from.
-enum class SampleKind : unsigned char { kSurface, kOffsetIn, kOffsetOut, kHalton };
+enum class SampleKind : unsigned char { kSurface, kOffsetIn, kOffsetOut, kHalton, kCheck };
 
 /// Samples in the muscle frame M (mm).
 struct SampleSet {
@@ -28,6 +31,13 @@ struct SampleSet {
   /// the closest feature's pseudo-normal: > 0 when the mesh has folds or slivers.
   int resigned_samples = 0;
   int getNumSamples() const { return static_cast<int>(points_mm.cols()); }
+
+  /// Check points: not fitted, but watched by the fit (see fitGreedy), which makes one a
+  /// sample (kind kCheck) where the field puts it on the wrong side.
+  Eigen::Matrix3Xd check_points_mm;
+  Eigen::VectorXd check_signed_distance_mm;
+  Eigen::VectorXd check_target;
+  int getNumCheckPoints() const { return static_cast<int>(check_points_mm.cols()); }
 };
 
 /// Area-weighted unit vertex normals of a closed, outward-wound mesh (3×V).
@@ -46,9 +56,30 @@ Eigen::AlignedBox3d calcPaddedBox(const TriangleMesh& mesh, double padding_fract
 Eigen::VectorXd calcSolidSignedDistances(const MeshDistance& distance, const WindingNumber& winding,
                                          const Eigen::Matrix3Xd& points_mm, int* resigned = nullptr);
 
+/// Check points start at this index of the Halton sequence: apart from the fitting samples
+/// (from 1) and the metric points (from 10⁷).
+constexpr std::uint64_t kBandHaltonStart = 1'000'000;
+/// makeBandPoints tries at most this many Halton points per point it is asked for.
+constexpr long long kMaxBandPointsTried = 100;
+
+/// Up to `count` points of the Halton sequence (from kBandHaltonStart) in `box_mm` that lie
+/// within `band_mm` of the mesh, in sequence order: an even cover of the band. Fewer when
+/// kMaxBandPointsTried·count points of the box hold fewer.
+Eigen::Matrix3Xd makeBandPoints(const Eigen::AlignedBox3d& box_mm, const MeshDistance& distance,
+                                double band_mm, int count);
+
+/// At most this many layers of check points along the normals.
+constexpr std::size_t kMaxCheckLayers = 16;
+
+/// Offsets of the check layers along the vertex normals: 2d, 4d, 8d, … below τ (mm).
+std::vector<double> calcCheckLayerOffsets(double normal_offset_mm, double clamp_mm);
+
 /// Builds the samples for `mesh_M` (already in the muscle frame). Targets come
 /// from the exact signed distance (so an inward offset that crosses a thin
-/// part still gets its true value), signed by calcSolidSignedDistances.
+/// part still gets its true value), signed by calcSolidSignedDistances. The check
+/// points are settings.check_band_samples band points (makeBandPoints, band τ) followed,
+/// when settings.check_normal_layers, by every vertex moved by −o and +o along its normal
+/// for each o of calcCheckLayerOffsets.
 SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance,
                        const FitSettings& settings);
 
