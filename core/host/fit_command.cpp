@@ -9,6 +9,7 @@
 
 #include "fit/fit_pipeline.h"
 #include "geometry/mesh_io.h"
+#include "geometry/mesh_warning.h"
 #include "host_commands.h"
 
 namespace rbfmuscle {
@@ -156,6 +157,7 @@ int runFitCommand(int argc, char** argv) {
                            fit.stop_reason.c_str(), fit.rounds,
                            fit.final_refit.reached_tolerance ? "tolerance" : "iteration cap",
                            fit.final_refit.iterations, fit.check_samples_added, fit.resigned_samples);
+  for (const std::string& warning : fit.warnings) printMeshWarning(warning);
   writeRbfFile(output_path, fit.surface);
   if (!surface_path.empty()) {
     try {
