@@ -252,9 +252,10 @@ class GreedyFitter {
     lambda_[k] = choice.weight;
   }
 
-  /// Makes every check point that the field puts on the wrong side, by at least the normal
-  /// offset d (|t| ≥ d, sign(f) ≠ sign(t)), a sample: a row of the design, a candidate
-  /// for a centre and a term of the refit. Returns how many.
+  /// Makes the check points that the field puts on the wrong side, by at least the normal
+  /// offset d (|t| ≥ d, sign(f) ≠ sign(t)), samples: rows of the design, candidates for a
+  /// centre and terms of the refit. At most candidates_per_round of them, largest |t − f|
+  /// first. Returns how many.
   int addViolatedCheckPoints() {
     const int P = samples_.getNumCheckPoints();
     if (P == 0) return 0;
@@ -267,6 +268,21 @@ class GreedyFitter {
       if (std::abs(t) >= settings_.normal_offset_mm && (t > 0) != (f > 0)) violated.push_back(i);
     }
     if (violated.empty()) return 0;
+    // The worst first, and no more than a round examines as candidates: where the budget is
+    // too small for the shape the field is wrong at most check points, and taking them all
+    // would turn the fit into one of the band (a box with 80 centres: 1971 of 2000 taken, and
+    // a cavity 26 mm deep came out).
+    const std::size_t cap = static_cast<std::size_t>(std::max(1, settings_.candidates_per_round));
+    if (violated.size() > cap) {
+      auto worse = [&](int a, int b) {
+        const double ea = std::abs(samples_.check_target[a] - offset_ - fitted[a]);
+        const double eb = std::abs(samples_.check_target[b] - offset_ - fitted[b]);
+        return ea != eb ? ea > eb : a < b;
+      };
+      std::partial_sort(violated.begin(), violated.begin() + static_cast<std::ptrdiff_t>(cap), violated.end(), worse);
+      violated.resize(cap);
+      std::sort(violated.begin(), violated.end());
+    }
     const Eigen::Index S = samples_.getNumSamples(), add = static_cast<Eigen::Index>(violated.size());
     samples_.points_mm.conservativeResize(3, S + add);
     samples_.signed_distance_mm.conservativeResize(S + add);

@@ -52,8 +52,9 @@ struct GreedyFitResult {
 /// sample does: the samples lie on the surface, 1 mm off it and in a box-wide Halton cover
 /// 6–7 mm apart, but a Gaussian reaches up to 60 mm, so the field between them is free.
 /// Once settings.check_start_fraction of the budget is placed, after every round's refit,
-/// each check point with |t| ≥ d (the normal offset) where sign(f) ≠ sign(t) becomes a
-/// sample (kind kCheck): a candidate for the next centres and a term of every later refit.
+/// the check points with |t| ≥ d (the normal offset) where sign(f) ≠ sign(t) become
+/// samples (kind kCheck), at most candidates_per_round of them, largest |t − f| first:
+/// candidates for the next centres and terms of every later refit.
 /// After the last round this repeats with the final refit, at most kMaxFinalCheckPasses
 /// times. check_samples_added counts them.
 GreedyFitResult fitGreedy(const SampleSet& samples, const FitSettings& settings,
