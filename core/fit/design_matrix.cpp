@@ -7,6 +7,15 @@ void DesignMatrix::appendColumn(std::vector<int> rows, std::vector<double> value
   columns_.push_back(Column{std::move(rows), std::move(values)});
 }
 
+void DesignMatrix::appendRow(const std::vector<int>& cols, const std::vector<double>& values) {
+  for (std::size_t n = 0; n < cols.size(); ++n) {
+    columns_[static_cast<std::size_t>(cols[n])].rows.push_back(num_rows_);
+    columns_[static_cast<std::size_t>(cols[n])].values.push_back(values[n]);
+  }
+  nonzeros_ += static_cast<long long>(cols.size());
+  ++num_rows_;
+}
+
 void DesignMatrix::multiply(const Eigen::VectorXd& x, Eigen::VectorXd& out) const {
   out.setZero(num_rows_);
   for (int k = 0; k < getNumCols(); ++k) {

@@ -16,6 +16,10 @@ class DesignMatrix {
   /// Appends column k = getNumCols() with nonzeros `values` at ascending `rows`.
   void appendColumn(std::vector<int> rows, std::vector<double> values);
 
+  /// Appends row i = getNumRows() with nonzeros `values` in columns `cols` (any order;
+  /// every column keeps its rows ascending, as the new row is the last).
+  void appendRow(const std::vector<int>& cols, const std::vector<double>& values);
+
   int getNumRows() const { return num_rows_; }
   int getNumCols() const { return static_cast<int>(columns_.size()); }
   /// Stored nonzeros in all columns.

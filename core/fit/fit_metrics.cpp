@@ -5,10 +5,12 @@
 #include <sstream>
 
 #include "fit/halton.h"
+#include "fit/sample_set.h"
 #include "geometry/iso_surface.h"
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_distance.h"
 #include "geometry/mesh_measures.h"
+#include "geometry/winding_number.h"
 
 namespace rbfmuscle {
 namespace {
@@ -30,7 +32,8 @@ FitMetrics measureFit(const GaussianField& field, const MeshDistance& mesh_dista
                       const Eigen::AlignedBox3d& box_mm, const FitSettings& settings) {
   FitMetrics m;
   const Eigen::Matrix3Xd points = makeHaltonPoints(box_mm, settings.metric_points, kMetricHaltonStart);
-  const Eigen::VectorXd s = mesh_distance.calcSignedDistances(points);
+  const Eigen::VectorXd s =
+      calcSolidSignedDistances(mesh_distance, WindingNumber(mesh_distance.getMesh()), points);
   Eigen::VectorXd f;
   field.calcValues(points, f);
   const double tau = settings.clamp_mm;

@@ -1,13 +1,16 @@
 #include "fit/fit_pipeline.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <sstream>
 
 #include "fit/sample_set.h"
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_distance.h"
 #include "geometry/mesh_io.h"
 #include "geometry/self_intersection.h"
+#include "geometry/mesh_measures.h"
 #include "geometry/solid_mesh.h"
 
 #include <sstream>
@@ -25,6 +28,7 @@ struct PreparedMesh {
   TriangleMesh mesh_M;
   Eigen::Vector3d offset_mm;
   std::string hash;
+  int components = 0;
 };
 
 /// Warns about what makes a closed mesh a poor target without making it invalid: several
@@ -66,6 +70,7 @@ PreparedMesh prepareMesh(const std::string& mesh_path, bool fix_winding, const F
     throw MeshError(text.str());
   }
   prepared.hash = hashFile(mesh_path);
+  prepared.components = countComponents(prepared.mesh_M);
   return prepared;
 }
 
@@ -80,6 +85,8 @@ MeshFit fitPrepared(const PreparedMesh& prepared, const std::string& mesh_path,
   result.rounds = fit.rounds;
   result.stop_reason = fit.stop_reason;
   result.final_refit = fit.final_refit;
+  result.check_samples_added = fit.check_samples_added;
+  result.resigned_samples = samples.resigned_samples;
   result.metrics = measureFit(fit.field, distance, samples.box_mm, settings);
   if (result.metrics.surface_M.countTriangles() == 0 || !(result.metrics.surface_volume_mm3 > 0)) {
     std::ostringstream text;
@@ -88,6 +95,8 @@ MeshFit fitPrepared(const PreparedMesh& prepared, const std::string& mesh_path,
          << " centres); the fit options (shapes, clamp, cell) do not suit a mesh of this size";
     throw MeshError(text.str());
   }
+  result.mesh_components = prepared.components;
+  result.warnings = describeSuspectFit(result.metrics, prepared.components, mesh_path);
   result.surface.field = std::move(fit.field);
   result.surface.frame_offset_mm = prepared.offset_mm;
   result.surface.source_mesh = getFileName(mesh_path);
@@ -99,6 +108,24 @@ MeshFit fitPrepared(const PreparedMesh& prepared, const std::string& mesh_path,
 }
 
 }  // namespace
+
+std::vector<std::string> describeSuspectFit(const FitMetrics& m, int mesh_components, const std::string& mesh_path) {
+  const bool pieces = m.components > std::max(mesh_components, 1);
+  const bool clipped = m.clipped_nodes > 0;
+  if (!pieces && !clipped) return {};
+  std::ostringstream text;
+  text.precision(3);
+  text << mesh_path << ": the fitted surface ";
+  if (pieces)
+    text << "comes out in " << m.components << " pieces where the mesh has " << mesh_components;
+  if (pieces && clipped) text << " and ";
+  if (clipped) text << "runs into the fitting box (" << m.clipped_nodes << " grid nodes inside on its faces)";
+  text << ": Jaccard " << m.jaccard << ", mean / p95 / max distance " << m.mean_distance_mm << " / "
+       << m.p95_distance_mm << " / " << m.max_distance_mm << " mm, volume ratio " << m.volume_ratio
+       << "; this surface is not the mesh's shape (check the mesh for folds and slivers, the centre"
+          " budget and the shapes)";
+  return {text.str()};
+}
 
 MeshFit fitMeshFile(const std::string& mesh_path, const FitSettings& settings, bool fix_winding,
                     const FitProgressFn& progress) {

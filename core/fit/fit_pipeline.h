@@ -4,6 +4,7 @@
 /// as a library call so tests and the muscle component share it.
 #include <functional>
 #include <string>
+#include <vector>
 
 #include "fit/fit_metrics.h"
 #include "fit/greedy_fitter.h"
@@ -18,7 +19,14 @@ struct MeshFit {
   int rounds = 0;
   std::string stop_reason;   ///< why the greedy loop ended (see GreedyFitResult)
   RefitReport final_refit;   ///< how the last weight refit ended
+  int check_samples_added = 0;  ///< check points the fit made samples (see fitGreedy)
+  int resigned_samples = 0;     ///< samples whose side the winding number decided (see SampleSet)
   double seconds = 0.0;  ///< wall time of sampling + fit (metrics excluded)
+  int mesh_components = 0;  ///< connected pieces of the fitted mesh (as loaded and repaired)
+  /// What makes the surface suspect, one sentence each naming the mesh and the figures
+  /// (describeSuspectFit); empty for a fit that came out as one closed piece per mesh piece.
+  /// The `fit` command and loadOrFitSurface print them as warnings.
+  std::vector<std::string> warnings;
 };
 
 /// The fit refuses a mesh that spans fewer than this many cells of the extracted surface
@@ -28,6 +36,15 @@ constexpr double kMinCellsAcrossMesh = 4.0;
 /// Self-intersecting triangle pairs counted at most before the fit's warning (the search
 /// stops there).
 constexpr int kMaxReportedSelfIntersections = 1000;
+
+/// Warnings about a fitted surface (mm): more pieces than the mesh has (`mesh_components`),
+/// or a surface that runs into the extraction box (clipped nodes: positive field on the box
+/// faces). Either means the field is positive where it should not be: where no sample holds
+/// it down, or between centres too narrow for the budget. Each names
+/// `mesh_path` and the figures (pieces, clipped nodes, Jaccard, mean / p95 / max distance,
+/// volume ratio). Empty when neither holds.
+std::vector<std::string> describeSuspectFit(const FitMetrics& metrics, int mesh_components,
+                                            const std::string& mesh_path);
 
 /// Loads the mesh with loadSolidMesh (defects repaired where safe, with a warning on
 /// stderr; then validated: watertight, consistently wound — or rewound when

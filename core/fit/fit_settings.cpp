@@ -10,6 +10,8 @@ std::string describeSettings(const FitSettings& s) {
   out << "max_centres=" << s.max_centres << " tolerance_mm=" << s.tolerance_mm
       << " clamp_mm=" << s.clamp_mm << " normal_offset_mm=" << s.normal_offset_mm
       << " halton_samples=" << s.halton_samples << " padding_fraction=" << s.padding_fraction
+      << " check_band_samples=" << s.check_band_samples << " check_normal_layers=" << s.check_normal_layers
+      << " check_start_fraction=" << s.check_start_fraction
       << " shapes_per_mm2=";
   for (std::size_t k = 0; k < s.shapes_per_mm2.size(); ++k) out << (k ? "," : "") << s.shapes_per_mm2[k];
   out << " regularisation_gamma=" << s.regularisation_gamma << " ridge=" << s.ridge

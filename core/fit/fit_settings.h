@@ -23,6 +23,21 @@ struct FitSettings {
   double normal_offset_mm = 1.0;   ///< d: samples ±d along the vertex normals (mm)
   int halton_samples = 30000;      ///< Halton(2,3,5) samples in the padded box
   double padding_fraction = 0.1;   ///< box padding, fraction of the largest box side on each side
+  /// Check points (fitGreedy): points where the field must be on the right side of the
+  /// surface, watched but not fitted until it is not. This many Halton points of the padded
+  /// box within τ of the surface (the clamp band, where the surface can go astray) …
+  int check_band_samples = 30000;
+  /// … and, when true, points 2d, 4d, 8d, … (< τ) off every vertex along its normal, in and
+  /// out: they fill the pockets of a concave surface, where the fields of centres on either
+  /// side meet. On the psoas major (1000 centres) the band points alone left a crumb 3.6 mm
+  /// out in such a pocket (2 components); with the layers it fits in one piece.
+  bool check_normal_layers = true;
+  /// Checks begin once this fraction of the centre budget is placed, so that the rest can
+  /// carve where they find the field wrong. Earlier the field is wrong nearly everywhere and
+  /// the checks only add samples, which cost accuracy (psoas, from ¼: 87 added, Jaccard
+  /// 0.948); from ½ the gluteus maximus's max distance grows 1.471 → 1.492 mm; after the
+  /// last round only (refit, no carving) the psoas's max distance is 4.07 mm against 3.84.
+  double check_start_fraction = 0.75;
   /// Shape set α (mm⁻²) the greedy step chooses from; σ = α^−½ from ~14 mm to ~1.4 mm.
   /// No wider shapes: a Gaussian can only move with its centre, so one much wider than
   /// the muscle's thickness cannot follow a bend (the gluteus maximus at 80° flexion),

@@ -29,6 +29,7 @@ struct GreedyFitResult {
   int rounds = 0;
   std::string stop_reason;      ///< "centre budget", "tolerance" or "no candidate reduces the error"
   RefitReport final_refit;      ///< how the last weight refit ended
+  int check_samples_added = 0;  ///< check points made samples because the field had them on the wrong side
   double rms_surface_mm = 0.0;
   double rms_all_mm = 0.0;
 };
@@ -46,6 +47,16 @@ struct GreedyFitResult {
 /// all weights are refitted jointly. Stops at the centre budget, at the
 /// tolerance on surface samples, or when no candidate helps — reported in
 /// stop_reason.
+///
+/// Check points (samples.check_*) hold the field to the right side of the surface where no
+/// sample does: the samples lie on the surface, 1 mm off it and in a box-wide Halton cover
+/// 6–7 mm apart, but a Gaussian reaches up to 60 mm, so the field between them is free.
+/// Once settings.check_start_fraction of the budget is placed, after every round's refit,
+/// the check points with |t| ≥ d (the normal offset) where sign(f) ≠ sign(t) become
+/// samples (kind kCheck), at most candidates_per_round of them, largest |t − f| first:
+/// candidates for the next centres and terms of every later refit.
+/// After the last round this repeats with the final refit, at most kMaxFinalCheckPasses
+/// times. check_samples_added counts them.
 GreedyFitResult fitGreedy(const SampleSet& samples, const FitSettings& settings,
                           const FitProgressFn& progress = {});
 

@@ -7,6 +7,7 @@
 #include "fit/fit_pipeline.h"
 #include "geometry/mesh_io.h"
 #include "io/file_checks.h"
+#include "geometry/mesh_warning.h"
 
 namespace rbfmuscle {
 
@@ -50,6 +51,7 @@ RbfSurface loadOrFitSurface(const std::string& mesh_path, const std::string& rbf
   };
   MeshFit fit = fitMeshFile(mesh_path, settings, false, progress);
   if (log) log("  fitted: " + fit.surface.metrics_json);
+  for (const std::string& warning : fit.warnings) printMeshWarning(warning);
   if (!rbf_path.empty()) writeRbfFile(rbf_path, fit.surface);
   origin = SurfaceOrigin::kFitted;
   return std::move(fit.surface);

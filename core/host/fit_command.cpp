@@ -10,6 +10,7 @@
 #include "fit/fit_pipeline.h"
 #include "framework/interrupt.h"
 #include "geometry/mesh_io.h"
+#include "geometry/mesh_warning.h"
 #include "host_commands.h"
 #include "io/file_checks.h"
 
@@ -31,6 +32,9 @@ const char* const kFitUsage =
     "  --clamp-mm TAU          clamp of the signed-distance target [10]\n"
     "  --normal-offset-mm D    samples ±D along vertex normals [1]\n"
     "  --halton N              Halton samples in the padded box [30000]\n"
+    "  --check-band N          check points within the clamp of the surface [30000]\n"
+    "  --no-check-layers       no check points 2D, 4D, 8D … (< TAU) off the vertices along their normals\n"
+    "  --check-start F         checks begin at this fraction of the centre budget [0.75]\n"
     "  --shapes A,B,...        shape set α in mm^-2 [0.005 … 0.5]\n"
     "  --gamma G               regularisation γ of eq. 7.12, 1 = none [0.9]\n"
     "  --batch-fraction F      centres added per round / current count [0.1]\n"
@@ -108,6 +112,9 @@ int runFitCommand(int argc, char** argv) {
     else if (arg == "--clamp-mm") settings.clamp_mm = parseNumber(arg, value());
     else if (arg == "--normal-offset-mm") settings.normal_offset_mm = parseNumber(arg, value());
     else if (arg == "--halton") settings.halton_samples = parseCount(arg, value(), 0);
+    else if (arg == "--check-band") settings.check_band_samples = parseCount(arg, value(), 0);
+    else if (arg == "--check-start") settings.check_start_fraction = parseNumber(arg, value());
+    else if (arg == "--no-check-layers") settings.check_normal_layers = false;
     else if (arg == "--shapes") settings.shapes_per_mm2 = parseList(arg, value());
     else if (arg == "--gamma") settings.regularisation_gamma = parseNumber(arg, value());
     else if (arg == "--batch-fraction") settings.batch_fraction = parseNumber(arg, value());
@@ -130,6 +137,8 @@ int runFitCommand(int argc, char** argv) {
   if (!(settings.batch_fraction > 0 && settings.batch_fraction <= 1))
     throw UsageError("fit: --batch-fraction must be in (0, 1]");
   if (!(settings.surface_cell_mm > 0)) throw UsageError("fit: --cell-mm must be > 0");
+  if (!(settings.check_start_fraction >= 0 && settings.check_start_fraction <= 1))
+    throw UsageError("fit: --check-start must be in [0, 1]");
   if (!search.empty() && search.size() != 3)
     throw UsageError("fit: --global-search expects LO,HI,K");
   // An output never replaces an input or another output (the same file by device and inode,
@@ -166,10 +175,11 @@ int runFitCommand(int argc, char** argv) {
                                    if (!quiet) std::fprintf(stderr, "fit: global shape %.6g mm^-2 -> C_m %.6f\n", alpha, metric);
                                  });
   }
-  if (!quiet) std::fprintf(stderr, "\nfit: stopped by %s after %d rounds; last refit: %s after %d iterations\n",
+  if (!quiet) std::fprintf(stderr, "\nfit: stopped by %s after %d rounds; last refit: %s after %d iterations; %d check points made samples; %d samples resigned\n",
                            fit.stop_reason.c_str(), fit.rounds,
                            fit.final_refit.reached_tolerance ? "tolerance" : "iteration cap",
-                           fit.final_refit.iterations);
+                           fit.final_refit.iterations, fit.check_samples_added, fit.resigned_samples);
+  for (const std::string& warning : fit.warnings) printMeshWarning(warning);
   writeRbfFile(output_path, fit.surface);
   if (!surface_path.empty()) {
     try {
