@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "dynamics/thickness_axes.h"
 
+#include "geometry/winding_number.h"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -21,6 +23,9 @@ Eigen::Vector3d inwardNormal(const TriangleMesh& mesh, int t) {
 
 ThicknessAxes calcThicknessAxes(const MeshDistance& muscle_surface, const Eigen::Matrix3Xd& points_mm) {
   const TriangleMesh& mesh = muscle_surface.getMesh();
+  // Inside by the winding number: a fold of a segmented mesh turns the pseudo-normal's sign over
+  // in a whole cone behind it (three folds of the psoas major do).
+  const WindingNumber winding(mesh);
   const double max_chord_mm = (mesh.vertices_mm.rowwise().maxCoeff() - mesh.vertices_mm.rowwise().minCoeff()).norm();
   ThicknessAxes result;
   result.axes.resize(3, points_mm.cols());
@@ -31,18 +36,18 @@ ThicknessAxes calcThicknessAxes(const MeshDistance& muscle_surface, const Eigen:
 #pragma omp parallel for schedule(dynamic, 16)
   for (Eigen::Index j = 0; j < points_mm.cols(); ++j) {
     const Eigen::Vector3d x = points_mm.col(j);
-    const SignedClosestPoint q = muscle_surface.findSignedClosestPoint(x);
-    Eigen::Vector3d n = q.signed_distance_mm < 0.0 ? Eigen::Vector3d(x - q.point_mm) : Eigen::Vector3d(q.point_mm - x);
+    const ClosestPoint q = muscle_surface.findClosestPoint(x);
+    Eigen::Vector3d n = winding.isInside(x) ? Eigen::Vector3d(x - q.point_mm) : Eigen::Vector3d(q.point_mm - x);
     n = n.norm() > 1e-9 ? Eigen::Vector3d(n.normalized()) : inwardNormal(mesh, q.triangle);
     // March from q along n until the ray leaves the muscle, then bisect the exit.
     double inside = 0.0, outside = 1.0;
-    while (outside < max_chord_mm && muscle_surface.isInside(q.point_mm + outside * n)) {
+    while (outside < max_chord_mm && winding.isInside(q.point_mm + outside * n)) {
       inside = outside;
       outside += 1.0;
     }
     for (int i = 0; i < 7; ++i) {  // 1 mm / 2⁷ < 0.01 mm
       const double mid = 0.5 * (inside + outside);
-      (muscle_surface.isInside(q.point_mm + mid * n) ? inside : outside) = mid;
+      (winding.isInside(q.point_mm + mid * n) ? inside : outside) = mid;
     }
     const Eigen::Vector3d m = q.point_mm + 0.5 * (inside + outside) * 0.5 * n;
     result.axes.col(j) = n;

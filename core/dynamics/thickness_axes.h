@@ -25,7 +25,7 @@ struct ThicknessAxes {
 
 /// For each point x (3×P, mm, the mesh's frame): q its closest point on the closed muscle
 /// surface, n the unit direction from q into the muscle (towards x when x is inside, away
-/// from x when outside), and m the midpoint of the chord from q along n to where the ray
+/// from x when outside; inside by the generalised winding number), and m the midpoint of the chord from q along n to where the ray
 /// leaves the muscle (found by 1 mm steps, then bisection to 0.01 mm; capped at the mesh's
 /// box diagonal). A point on the surface with no direction gets n = the surface's inward
 /// direction from the pseudo-normal test, offset −chord/2.

@@ -36,6 +36,19 @@ inline GaussianField makeRodField() {
   return GaussianField(-5.0, xi, lambda, alpha);
 }
 
+/// A closed box mesh [lo, hi] (12 triangles, wound outward): a rest mesh for the rod.
+inline TriangleMesh makeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TriangleMesh mesh;
+  mesh.vertices_mm.resize(3, 8);
+  for (int i = 0; i < 8; ++i)
+    mesh.vertices_mm.col(i) = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
+  mesh.triangles.resize(3, 12);
+  mesh.triangles << 0, 0, 4, 4, 0, 0, 2, 2, 0, 0, 1, 1,  //
+      2, 3, 5, 7, 1, 5, 6, 7, 4, 6, 3, 7,               //
+      3, 1, 7, 6, 5, 4, 7, 3, 6, 2, 7, 5;
+  return mesh;
+}
+
 /// Bone 0 holds the rod's x < −22 mm end, bone 1 its x > 22 mm end (landmarks of radius 9 mm).
 inline Attachments makeRodAttachments(const GaussianField& field) {
   Attachments a = makeFreeAttachments(field.getNumCentres(), 2);

@@ -11,23 +11,11 @@
 namespace rbfmuscle {
 namespace {
 
-/// A closed box mesh [lo, hi] (12 triangles, outward).
-TriangleMesh makeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-  TriangleMesh mesh;
-  mesh.vertices_mm.resize(3, 8);
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices_mm.col(i) = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  mesh.triangles.resize(3, 12);
-  mesh.triangles << 0, 0, 4, 4, 0, 0, 2, 2, 0, 0, 1, 1,  //
-      2, 3, 5, 7, 1, 5, 6, 7, 4, 6, 3, 7,               //
-      3, 1, 7, 6, 5, 4, 7, 3, 6, 2, 7, 5;
-  return mesh;
-}
 
 struct Rod {
   GaussianField field = test::makeRodField();
   Attachments attachments = test::makeRodAttachments(field);
-  TriangleMesh mesh = makeBox(Eigen::Vector3d(-38, -8, -6), Eigen::Vector3d(38, 8, 6));
+  TriangleMesh mesh = test::makeBox(Eigen::Vector3d(-38, -8, -6), Eigen::Vector3d(38, 8, 6));
 };
 
 TissueLattice makeLattice(const Rod& rod, bool incompressible) {

@@ -15,23 +15,11 @@
 namespace rbfmuscle {
 namespace {
 
-/// A closed box mesh [lo, hi] (12 triangles, outward): the rod's rest mesh.
-TriangleMesh makeBox(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-  TriangleMesh mesh;
-  mesh.vertices_mm.resize(3, 8);
-  for (int i = 0; i < 8; ++i)
-    mesh.vertices_mm.col(i) = Eigen::Vector3d(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z());
-  mesh.triangles.resize(3, 12);
-  mesh.triangles << 0, 0, 4, 4, 0, 0, 2, 2, 0, 0, 1, 1,  //
-      2, 3, 5, 7, 1, 5, 6, 7, 4, 6, 3, 7,               //
-      3, 1, 7, 6, 5, 4, 7, 3, 6, 2, 7, 5;
-  return mesh;
-}
 
 MuscleDefinition makeRod() {
   MuscleDefinition rod;
   rod.rest_field = test::makeRodField();
-  rod.rest_mesh_M = makeBox(Eigen::Vector3d(-36, -7, -4), Eigen::Vector3d(36, 7, 4.5));
+  rod.rest_mesh_M = test::makeBox(Eigen::Vector3d(-36, -7, -4), Eigen::Vector3d(36, 7, 4.5));
   rod.attachments = test::makeRodAttachments(rod.rest_field);
   rod.origin_area_M = Eigen::Vector3d(-30, 0, 0);
   rod.insertion_area_M = Eigen::Vector3d(30, 0, 0);
