@@ -71,47 +71,6 @@ void attachByLandmarks(const GaussianField& field, const std::vector<AttachmentL
   }
 }
 
-void attachByProximity(const GaussianField& field, const std::vector<const MeshDistance*>& bones_M,
-                       double distance_mm, double support_scale, Attachments& attachments) {
-  checkSize(field, attachments, "attachByProximity");
-  if (static_cast<int>(bones_M.size()) != attachments.num_bones) {
-    throw std::invalid_argument("attachByProximity: " + std::to_string(bones_M.size()) + " bone surfaces for " +
-                                std::to_string(attachments.num_bones) + " bones");
-  }
-  for (size_t b = 0; b < bones_M.size(); ++b) {
-    if (bones_M[b] == nullptr) throw std::invalid_argument("attachByProximity: bone " + std::to_string(b) + " is null");
-  }
-  if (!(distance_mm >= 0.0) || !std::isfinite(distance_mm) || !(support_scale >= 0.0) || !std::isfinite(support_scale)) {
-    throw std::invalid_argument("attachByProximity: distance_mm " + std::to_string(distance_mm) + " and support_scale " +
-                                std::to_string(support_scale) + " must be finite and >= 0");
-  }
-  const Eigen::Matrix3Xd& xi = field.getCentres();
-  const Eigen::VectorXd& alpha = field.getShapes();
-  for (int k = 0; k < field.getNumCentres(); ++k) {
-    if (attachments.isAttached(k)) continue;
-    const double support = support_scale / std::sqrt(alpha(k));
-    double best = std::numeric_limits<double>::infinity();
-    int bone = -1;
-    for (size_t b = 0; b < bones_M.size(); ++b) {
-      const double d = bones_M[b]->calcUnsignedDistance(xi.col(k)) - support;
-      if (d <= distance_mm && d < best) {
-        best = d;
-        bone = static_cast<int>(b);
-      }
-    }
-    attachments.bone_of_centre[static_cast<size_t>(k)] = bone;
-  }
-}
-
-void addSupport(int bone, std::shared_ptr<const MeshDistance> surface_M, Attachments& attachments) {
-  if (bone < 0 || bone >= attachments.num_bones || !surface_M) {
-    throw std::invalid_argument("addSupport: bone " + std::to_string(bone) + " of " +
-                                std::to_string(attachments.num_bones) + (surface_M ? "" : ", no surface"));
-  }
-  attachments.supports_M.resize(static_cast<size_t>(attachments.num_bones));
-  attachments.supports_M[static_cast<size_t>(bone)] = std::move(surface_M);
-}
-
 Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen::Matrix3Xd& rest_centres_mm,
                                  const Attachments& attachments, double length_mm, double power) {
   if (static_cast<Eigen::Index>(attachments.bone_of_centre.size()) != rest_centres_mm.cols()) {
@@ -140,10 +99,6 @@ Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen:
       const double dist = (points_mm.col(j) - rest_centres_mm.col(k)).norm();
       if (dist < d(b)) d(b) = dist;
     }
-    for (size_t b = 0; b < attachments.supports_M.size(); ++b)
-      if (attachments.supports_M[b])
-        d(static_cast<Eigen::Index>(b)) = std::min(d(static_cast<Eigen::Index>(b)),
-                                                   attachments.supports_M[b]->calcUnsignedDistance(points_mm.col(j)));
     double sum = 0.0;
     for (int b = 0; b < B; ++b) {
       const double w = std::isfinite(d(b)) ? (power == 1.0 ? 1.0 / (d(b) + length_mm) : std::pow(d(b) + length_mm, -power)) : 0.0;

@@ -7,39 +7,21 @@
 /// given to the tissue lattice). Everything is in the
 /// muscle frame M at rest (mm).
 ///
-/// Two ways to attach centres, which may be combined (attachWithLandmarks then
-/// attachByProximity on the result; an attached centre is never re-assigned):
-///  - landmarks: a point p_M and a radius r per bone; centre k attaches to the
-///    bone of the nearest landmark with ‖ξₖ − p‖ ≤ r (ties: lowest landmark index);
-///  - proximity: bone surfaces as MeshDistance in M; centre k attaches to the
-///    bone b minimising dₖ_b = |s_b(ξₖ)| − s·σₖ, σₖ = 1/√αₖ (mm), if dₖ_b ≤ D:
-///    "the Gaussian's support (radius s·σₖ, default s = 1 i.e. φ = e⁻¹) reaches within D of the bone".
+/// Centres attach by landmarks (the points of a muscle's attachment areas): a point p_M and a
+/// radius r per bone; centre k attaches to the bone of the nearest landmark with ‖ξₖ − p‖ ≤ r
+/// (ties: lowest landmark index).
 ///
-/// Blend weights (prediction of free centres and carried points): for a point p
-/// and a bone b with attached set A_b, the distance to the set is
-/// d_b(p) = min_{k∈A_b} ‖p − ξₖ‖ (mm); the weights are inverse distances,
-/// w_b = (d_b + ℓ)⁻¹ / Σ_c (d_c + ℓ)⁻¹, with a softening length ℓ > 0 (mm) that keeps
-/// them finite on an attached centre. For two bones w_1 = (d_0 + ℓ)/(d_0 + d_1 + 2ℓ):
-/// the weight changes evenly along the whole way from one attachment to the other, so
-/// the stretch of a muscle between two bones turning apart is spread over its length.
-/// (A soft-min exp(−d_b/ℓ) was used first: it put the whole change into a band of a
-/// few ℓ and stretched the gluteus maximus there by 4.1× at 80° flexion, splitting it;
-/// inverse distances give at most 2.0× and a median of 1.6×.) Bones without attached
-/// centres get weight 0. Σ_b w_b = 1 up to rounding; ℓ → ∞ gives equal weights.
-///
-/// Supporting bones: a bone whose rest surface is given in Attachments::supports_M counts
-/// its surface as attached too, d_b(p) = min(d_b(p), distance from p to the surface), so
-/// muscle lying on the bone follows it and the blend changes only where the muscle leaves
-/// the bone. Why: the iliacus lies on the iliac fossa over 100 mm above its insertion;
-/// with distances to the attached centres only, its part 50 mm above the hip centre took
-/// about 0.3 of the femur's flexion, which turns it backwards through the ilium
-/// (15 mm deep at 80° before any contact response).
-#include "geometry/mesh_distance.h"
+/// Blend weights (of every point the tissue map carries): for a point p and a bone b with
+/// attached set A_b, the distance to the set is d_b(p) = min_{k∈A_b} ‖p − ξₖ‖ (mm); the
+/// weights are powers of inverse distances, w_b = (d_b + ℓ)^−p / Σ_c (d_c + ℓ)^−p, with a
+/// softening length ℓ > 0 (mm) that keeps them finite on an attached centre. Bones without
+/// attached centres get weight 0. Σ_b w_b = 1 up to rounding; ℓ → ∞ gives equal weights.
+/// (A soft-min exp(−d_b/ℓ) put the whole change into a band of a few ℓ and split a flexed
+/// muscle there; see calcBlendWeights for the power.)
 #include "rbf/gaussian_field.h"
 
 #include <Eigen/Core>
 
-#include <memory>
 #include <vector>
 
 namespace rbfmuscle {
@@ -57,9 +39,6 @@ struct Attachments {
   int num_bones = 0;
   /// bone_of_centre[k] ∈ [0, B) for a centre attached to that bone, −1 for a free centre (size N).
   std::vector<int> bone_of_centre;
-  /// Empty, or per bone its rest surface in M when the bone supports the muscle (blend weights,
-  /// file comment), null when it does not.
-  std::vector<std::shared_ptr<const MeshDistance>> supports_M;
   /// Whether centre k is attached to a bone.
   bool isAttached(int k) const { return bone_of_centre[static_cast<size_t>(k)] >= 0; }
   /// Number of attached centres.
@@ -79,19 +58,6 @@ Attachments makeFreeAttachments(int num_centres, int num_bones);
 ///   attachments.bone_of_centre.size() ≠ N.
 void attachByLandmarks(const GaussianField& field, const std::vector<AttachmentLandmark>& landmarks,
                        Attachments& attachments);
-
-/// Attaches free centres of `field` by proximity to the bone surfaces `bones_M`
-/// (size B, meshes in M at rest): see file comment.
-/// @param distance_mm D ≥ 0 (mm)
-/// @param support_scale s ≥ 0: support radius s/√α (mm)
-/// @throws std::invalid_argument if bones_M.size() ≠ B, a pointer is null, D or s is
-///   negative or not finite, or attachments.bone_of_centre.size() ≠ N.
-void attachByProximity(const GaussianField& field, const std::vector<const MeshDistance*>& bones_M,
-                       double distance_mm, double support_scale, Attachments& attachments);
-
-/// Makes bone `bone` support the muscle with its rest surface `surface_M` (M, mm): see file comment.
-/// @throws std::invalid_argument if the bone is outside [0, B) or the surface is null.
-void addSupport(int bone, std::shared_ptr<const MeshDistance> surface_M, Attachments& attachments);
 
 /// Blend weights (B×M) of the points (3×M, mm, M at rest) from the attached centres
 /// of `rest_centres_mm` (3×N): see file comment, with the inverse distances raised to

@@ -85,7 +85,6 @@ double CurvatureObjective::evaluate(const DeformedField& field, const Eigen::Mat
       gradient->col(t.kernel) += (scale * k.weight * t.phi) * (2.0 * t.g * t.ad - 8.0 * k.applyMetric(t.ad));
     }
   }
-  last_curvature_cost_ = curvature / reference_;
   double anchor = 0.0;
   for (int k = 0; k < n; ++k) {
     if (!free_mask_[static_cast<size_t>(k)]) continue;
@@ -93,7 +92,7 @@ double CurvatureObjective::evaluate(const DeformedField& field, const Eigen::Mat
     anchor += d.squaredNorm();
     if (gradient) gradient->col(k) += (2.0 * anchor_weight_) * d;
   }
-  return last_curvature_cost_ + anchor_weight_ * anchor;
+  return curvature / reference_ + anchor_weight_ * anchor;
 }
 
 }  // namespace rbfmuscle

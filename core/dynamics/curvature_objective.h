@@ -35,15 +35,9 @@ class CurvatureObjective {
                                         const NeighbourLists& lists);
 
   /// E for `field` with quadrature points at `points_mm` (3×M) and anchors (3×N); with a
-  /// gradient pointer, ∇_ξ E (3×N, zero for fixed kernels). Also remembers the curvature term.
+  /// gradient pointer, ∇_ξ E (3×N, zero for fixed kernels).
   double evaluate(const DeformedField& field, const Eigen::Matrix3Xd& points_mm, const Eigen::Matrix3Xd& anchors_mm,
                   Eigen::Matrix3Xd* gradient) const;
-  /// The curvature term Σ w (κ − κ₀)² / E_ref of the last evaluate().
-  double getLastCurvatureCost() const { return last_curvature_cost_; }
-  /// The free flags.
-  const std::vector<bool>& getFreeMask() const { return free_mask_; }
-  /// Number of free kernels.
-  int countFree() const { return num_free_; }
 
  private:
   struct Term {  ///< one active kernel at the current point
@@ -58,7 +52,6 @@ class CurvatureObjective {
   int num_free_ = 0;
   double reference_ = 1.0;
   double anchor_weight_ = 0.0;  ///< ρ / (|F| ℓ²)
-  mutable double last_curvature_cost_ = 0.0;
   mutable std::vector<Term> terms_;
 };
 

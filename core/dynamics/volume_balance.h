@@ -67,10 +67,6 @@ class VolumeBalance {
 
   /// V_rest (mm³).
   double getRestVolume() const { return rest_volume_mm3_; }
-  /// w used (field unit).
-  double getStepWidth() const { return width_; }
-  /// c (N).
-  const Eigen::VectorXd& getCorrectionWeights() const { return correction_weights_; }
 
  private:
   /// Σ w J H(min(f + δ g, s)) and its δ-derivative from the stored f_j, g_j.

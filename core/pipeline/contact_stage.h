@@ -26,8 +26,6 @@ class ContactStage final : public FrameStage {
 
   void run(MuscleState& state, const FrameInput& input) override;
   void appendReport(std::vector<double>& values) const override { appendTable(kReport, report_, values); }
-  /// The posed bones.
-  const BoneClearance& getClearance() const { return clearance_; }
 
  private:
   BoneClearance clearance_;

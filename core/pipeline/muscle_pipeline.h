@@ -67,10 +67,6 @@ class MusclePipeline {
 
   /// The last frame's figures, in the order of describeReports().
   void appendReports(std::vector<double>& values) const;
-  /// The stage in a slot (null when the muscle has none there).
-  const FrameStage* getStage(int slot) const { return stages_[static_cast<size_t>(slot)].get(); }
-  /// Wall time of a slot's stage in the last run (ms; NaN when it did not run).
-  double getStageMs(int slot) const { return stage_ms_[static_cast<size_t>(slot)]; }
   /// Wall time of the last run (ms).
   double getFrameMs() const { return frame_ms_; }
   /// The state after the last run (the rest state before the first).
@@ -81,8 +77,6 @@ class MusclePipeline {
   const Eigen::VectorXd& getFibreLengths() const;
   /// The tracked rest surface.
   const TriangleMesh& getRestSurface() const;
-  /// The tissue map.
-  const TissueLattice& getLattice() const { return *lattice_; }
   /// Rest volume (mm³) of the muscle outside the bones.
   double getRestVolume() const { return rest_volume_mm3_; }
 

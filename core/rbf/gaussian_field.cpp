@@ -237,43 +237,6 @@ void GaussianField::findActiveCentres(const Eigen::Vector3d& p_mm, ActiveCentres
   });
 }
 
-void GaussianField::findNearCentres(const Eigen::Vector3d& p_mm, double skin_mm, std::vector<int>& out) const {
-  checkFinitePoint(p_mm);
-  out.clear();
-  // r ≤ rₖ + skin, with rₖ padded by a relative 1e-12 so rounding never drops a centre the
-  // exact cut-off test αₖ r² ≤ ln(1/ε) would keep.
-  const auto near = [&](int k, const Eigen::Vector3d& centre) {
-    const double reach = std::sqrt(log_inv_cutoff_ / shapes_per_mm2_[k]) * (1.0 + 1e-12) + skin_mm;
-    return (p_mm - centre).norm() <= reach;
-  };
-  if (!use_grid_ || classes_.empty()) {
-    for (int k = 0; k < centres_mm_.cols(); ++k)
-      if (near(k, centres_mm_.col(k))) out.push_back(k);
-    return;
-  }
-  for (const RadiusClass& rc : classes_)
-    rc.grid.visitCandidates(p_mm, rc.query_radius_mm + skin_mm, [&](int j, const auto& centre) {
-      const int k = rc.members[static_cast<std::size_t>(j)];
-      if (near(k, centre)) out.push_back(k);
-    });
-  sortAscendingIndices(out, static_cast<int>(centres_mm_.cols()));
-}
-
-void GaussianField::findActiveCentresAmong(const Eigen::Vector3d& p_mm, const int* candidates, int count,
-                                           ActiveCentres& out) const {
-  checkFinitePoint(p_mm);
-  out.clear();
-  for (int c = 0; c < count; ++c) {
-    const int k = candidates[c];
-    const double r2 = (p_mm - centres_mm_.col(k)).squaredNorm();
-    const double alpha = shapes_per_mm2_[k];
-    if (alpha * r2 > log_inv_cutoff_) continue;
-    out.indices.push_back(k);
-    out.phi.push_back(gaussian::calcPhi(alpha, r2));
-    out.r2_mm2.push_back(r2);
-  }
-}
-
 double GaussianField::calcValue(const Eigen::Vector3d& p_mm) const {
   double sum = 0.0;
   visitActive(p_mm, [&](int k, double phi, const Eigen::Vector3d&, double) {

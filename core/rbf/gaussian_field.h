@@ -113,15 +113,6 @@ class GaussianField final : public ImplicitField {
   /// reproduce this class's sums bitwise.
   void findActiveCentres(const Eigen::Vector3d& p_mm, ActiveCentres& out) const;
 
-  /// Fills `out` (ascending) with the centres within their cut-off radius plus `skin_mm` of p:
-  /// while no centre moves further than skin_mm, every centre active at p is among them, so a
-  /// caller evaluating p many times (the descent) searches the grids once (a Verlet list).
-  void findNearCentres(const Eigen::Vector3d& p_mm, double skin_mm, std::vector<int>& out) const;
-  /// findActiveCentres over `candidates` only (ascending, count entries): bitwise the same
-  /// lists whenever the candidates hold every centre active at p.
-  void findActiveCentresAmong(const Eigen::Vector3d& p_mm, const int* candidates, int count,
-                              ActiveCentres& out) const;
-
   /// f(p) = b + Σ λᵢ φᵢ(p).
   double calcValue(const Eigen::Vector3d& p_mm) const override;
   /// ∇f(p) (field unit / mm).

@@ -49,6 +49,24 @@ TEST(TissueLattice, ACommonRigidMotionMovesEveryPointAndFrameRigidly) {
   EXPECT_LT((volume.array() - 1.0).abs().maxCoeff(), 1e-9);
 }
 
+TEST(TissueLattice, PointsTiedToABoneMoveAndTurnExactlyWithIt) {
+  const Rod rod;
+  TissueLattice lattice = makeLattice(rod, true);
+  const Eigen::Isometry3d turn = test::makeRotationAbout(Eigen::Vector3d(20, 0, 0), Eigen::Vector3d::UnitY(), 0.5);
+  lattice.update({Eigen::Isometry3d::Identity(), turn});
+  const LatticeBinding kernels = lattice.bind(rod.field.getCentres(), rod.attachments.bone_of_centre);
+  Eigen::Matrix3Xd moved;
+  std::vector<Eigen::Matrix3d> frames;
+  lattice.carry(kernels, moved, frames);
+  for (int k = 0; k < kernels.size(); ++k) {
+    const int bone = rod.attachments.bone_of_centre[static_cast<size_t>(k)];
+    if (bone < 0) continue;
+    const Eigen::Isometry3d& t = bone == 0 ? Eigen::Isometry3d::Identity() : turn;
+    EXPECT_LT((moved.col(k) - t * Eigen::Vector3d(rod.field.getCentres().col(k))).norm(), 1e-12) << "kernel " << k;
+    EXPECT_LT((frames[static_cast<size_t>(k)] - t.linear()).norm(), 1e-12) << "kernel " << k;
+  }
+}
+
 TEST(TissueLattice, FramesAreTheGradientOfTheCarriedMap) {
   const Rod rod;
   TissueLattice lattice = makeLattice(rod, true);
