@@ -60,10 +60,8 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
         }
   }
   const int k = static_cast<int>(active.size());
-  node_ijk_.resize(3, k);
   rest_nodes_mm_.resize(3, k);
   for (int n = 0; n < k; ++n) {
-    node_ijk_.col(n) = active[static_cast<size_t>(n)];
     rest_nodes_mm_.col(n) = origin_mm_ + cell_mm_ * active[static_cast<size_t>(n)].cast<double>();
   }
   neighbours_.assign(static_cast<size_t>(k), {-1, -1, -1, -1, -1, -1});
@@ -168,7 +166,7 @@ LatticeBinding TissueLattice::bind(const Eigen::Matrix3Xd& rest_mm, const std::v
                                 std::to_string(p) + " points");
   LatticeBinding binding;
   binding.rest_mm = rest_mm;
-  binding.cells.assign(static_cast<size_t>(p), -1);
+  binding.corners.assign(static_cast<size_t>(p), {-1, -1, -1, -1, -1, -1, -1, -1});
   binding.local.setZero(3, p);
   binding.rigid_bone.assign(static_cast<size_t>(p), -1);
   for (Eigen::Index j = 0; j < p; ++j) {
@@ -181,61 +179,56 @@ LatticeBinding TissueLattice::bind(const Eigen::Matrix3Xd& rest_mm, const std::v
     if (!rest_mm.col(j).allFinite()) throw std::invalid_argument("TissueLattice::bind: point " + std::to_string(j) + " is not finite");
     const Eigen::Vector3d u = (rest_mm.col(j) - origin_mm_) / cell_mm_;
     const Eigen::Vector3i c = u.array().floor().cast<int>();
-    for (int dz = 0; dz <= 1; ++dz)
-      for (int dy = 0; dy <= 1; ++dy)
-        for (int dx = 0; dx <= 1; ++dx)
-          if (findNode(c + Eigen::Vector3i(dx, dy, dz)) < 0)
-            throw std::invalid_argument("TissueLattice::bind: point " + std::to_string(j) +
-                                        " lies outside the lattice's covered cells");
-    binding.cells[static_cast<size_t>(j)] = findNode(c);
+    std::array<int, 8>& corners = binding.corners[static_cast<size_t>(j)];
+    for (int corner = 0; corner < 8; ++corner) {
+      corners[static_cast<size_t>(corner)] = findNode(c + Eigen::Vector3i(corner & 1, (corner >> 1) & 1, (corner >> 2) & 1));
+      if (corners[static_cast<size_t>(corner)] < 0)
+        throw std::invalid_argument("TissueLattice::bind: point " + std::to_string(j) +
+                                    " lies outside the lattice's covered cells");
+    }
     binding.local.col(j) = u - c.cast<double>();
   }
   return binding;
 }
 
 void TissueLattice::carry(const LatticeBinding& points, Eigen::Matrix3Xd& out) const {
-  out.resize(3, points.size());
-  for (int j = 0; j < points.size(); ++j) {
-    const int bone = points.rigid_bone[static_cast<size_t>(j)];
-    if (bone >= 0) {
-      out.col(j) = motions_[static_cast<size_t>(bone)] * Eigen::Vector3d(points.rest_mm.col(j));
-      continue;
-    }
-    const Eigen::Vector3i c = node_ijk_.col(points.cells[static_cast<size_t>(j)]);
-    const Eigen::Vector3d u = points.local.col(j);
-    Eigen::Vector3d y = Eigen::Vector3d::Zero();
-    for (int corner = 0; corner < 8; ++corner) {
-      const int a = corner & 1, b = (corner >> 1) & 1, e = (corner >> 2) & 1;
-      const double w = (a ? u.x() : 1.0 - u.x()) * (b ? u.y() : 1.0 - u.y()) * (e ? u.z() : 1.0 - u.z());
-      y += w * nodes_mm_.col(findNode(c + Eigen::Vector3i(a, b, e)));
-    }
-    out.col(j) = y;
-  }
+  carryPoints(points, out, nullptr);
 }
 
 void TissueLattice::carry(const LatticeBinding& points, Eigen::Matrix3Xd& out,
                           std::vector<Eigen::Matrix3d>& frames) const {
-  carry(points, out);
   frames.resize(static_cast<size_t>(points.size()));
+  carryPoints(points, out, &frames);
+}
+
+void TissueLattice::carryPoints(const LatticeBinding& points, Eigen::Matrix3Xd& out,
+                                std::vector<Eigen::Matrix3d>* frames) const {
+  out.resize(3, points.size());
   for (int j = 0; j < points.size(); ++j) {
-    const int bone = points.rigid_bone[static_cast<size_t>(j)];
+    const size_t jj = static_cast<size_t>(j);
+    const int bone = points.rigid_bone[jj];
     if (bone >= 0) {
-      frames[static_cast<size_t>(j)] = motions_[static_cast<size_t>(bone)].linear();
+      out.col(j) = motions_[static_cast<size_t>(bone)] * Eigen::Vector3d(points.rest_mm.col(j));
+      if (frames) (*frames)[jj] = motions_[static_cast<size_t>(bone)].linear();
       continue;
     }
-    const Eigen::Vector3i c = node_ijk_.col(points.cells[static_cast<size_t>(j)]);
+    // Trilinear interpolation of the cell's nodes, and (for frames) its gradient.
     const Eigen::Vector3d u = points.local.col(j);
+    Eigen::Vector3d y = Eigen::Vector3d::Zero();
     Eigen::Matrix3d f = Eigen::Matrix3d::Zero();
     for (int corner = 0; corner < 8; ++corner) {
       const int a = corner & 1, b = (corner >> 1) & 1, e = (corner >> 2) & 1;
       const double wx = a ? u.x() : 1.0 - u.x(), wy = b ? u.y() : 1.0 - u.y(), wz = e ? u.z() : 1.0 - u.z();
+      const Eigen::Vector3d node = nodes_mm_.col(points.corners[jj][static_cast<size_t>(corner)]);
+      y += (wx * wy * wz) * node;
+      if (!frames) continue;
       const double sx = a ? 1.0 : -1.0, sy = b ? 1.0 : -1.0, sz = e ? 1.0 : -1.0;
-      const Eigen::Vector3d node = nodes_mm_.col(findNode(c + Eigen::Vector3i(a, b, e)));
       f.col(0) += (sx * wy * wz) * node;
       f.col(1) += (wx * sy * wz) * node;
       f.col(2) += (wx * wy * sz) * node;
     }
-    frames[static_cast<size_t>(j)] = f / cell_mm_;
+    out.col(j) = y;
+    if (frames) (*frames)[jj] = f / cell_mm_;
   }
 }
 

@@ -34,7 +34,7 @@ namespace rbfmuscle {
 
 /// Rest points bound to the lattice.
 struct LatticeBinding {
-  std::vector<int> cells;          ///< lower corner node (active index) of each point's cell; −1: tied to a bone
+  std::vector<std::array<int, 8>> corners;  ///< the 8 nodes of each point's cell (corner c at +x if c&1, +y if c&2, +z if c&4)
   Eigen::Matrix3Xd local;          ///< (u, v, w) ∈ [0, 1]³ of each point in its cell
   std::vector<int> rigid_bone;     ///< bone a point is tied to, −1 when carried by the lattice
   Eigen::Matrix3Xd rest_mm;        ///< rest positions (3×P, M)
@@ -97,6 +97,8 @@ class TissueLattice {
   int getNumBones() const { return num_bones_; }
 
  private:
+  /// Positions of bound points and, when `frames` is given, their frames (see carry).
+  void carryPoints(const LatticeBinding& points, Eigen::Matrix3Xd& out, std::vector<Eigen::Matrix3d>* frames) const;
   /// Differences of `positions` at node n along the lattice axes (central where both
   /// neighbours are active, else one-sided, else the rest axis).
   Eigen::Matrix3d differentiate(const Eigen::Matrix3Xd& positions, int n) const;
@@ -107,7 +109,6 @@ class TissueLattice {
   double cell_mm_;
   Eigen::Vector3i dims_ = Eigen::Vector3i::Zero();
   std::vector<int> node_of_cell_corner_;  ///< dense: lattice node → active index, −1 inactive
-  Eigen::Matrix3Xi node_ijk_;             ///< lattice coordinates of each active node
   std::vector<std::array<int, 6>> neighbours_;  ///< −x, +x, −y, +y, −z, +z active indices (−1 absent)
   Eigen::Matrix3Xd rest_nodes_mm_;
   Eigen::MatrixXd node_weights_;          ///< B×K blend weights

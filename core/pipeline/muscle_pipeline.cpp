@@ -17,6 +17,23 @@
 
 namespace rbfmuscle {
 
+namespace {
+
+/// The figures of a slot's table.
+std::vector<ReportField> describeSlot(int slot) {
+  switch (slot) {
+    case MusclePipeline::kPrediction: return describeTable(PredictionStage::kReport);
+    case MusclePipeline::kDescent: return describeTable(DescentStage::kReport);
+    case MusclePipeline::kContacts: return describeTable(ContactStage::kReport);
+    case MusclePipeline::kVolume: return describeTable(VolumeStage::kReport);
+    case MusclePipeline::kFibres: return describeTable(FibreStage::kReport);
+    case MusclePipeline::kSurface: return describeTable(SurfaceStage::kReport);
+  }
+  return {};
+}
+
+}  // namespace
+
 MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const PipelineSettings& settings) {
   const GaussianField& fit = definition.rest_field;
   state_ = std::make_unique<MuscleState>(fit, settings.cutoff);
@@ -64,7 +81,7 @@ MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const Pipelin
   const Eigen::Index n = fit.getNumCentres(), m = quadrature.points_mm.cols();
   Eigen::Matrix3Xd cover(3, n + m + fibres.points_mm.cols() + rest_surface.vertices_mm.cols());
   cover << fit.getCentres(), quadrature.points_mm, fibres.points_mm, rest_surface.vertices_mm;
-  const MeshDistance muscle_surface(definition.rest_mesh_M);
+  const MeshDistance muscle_surface(definition.rest_mesh_M, false);  // closest points only: sides by winding number
   lattice_ = std::make_shared<TissueLattice>(fit.getCentres(), definition.attachments, quadrature.box_mm.min(),
                                              quadrature.cell_mm, cover, &muscle_surface, settings.lattice);
 
@@ -90,6 +107,7 @@ MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const Pipelin
   state_->surface_M = surface_->getRestSurface();
   stages_[kSurface] = std::move(surface);
   stage_ms_.assign(kSlots, std::numeric_limits<double>::quiet_NaN());
+  for (int slot = 0; slot < kSlots; ++slot) slot_sizes_.push_back(describeSlot(slot).size());
 }
 
 const char* MusclePipeline::getSlotName(int slot) {
@@ -97,22 +115,6 @@ const char* MusclePipeline::getSlotName(int slot) {
   return names[slot];
 }
 
-namespace {
-
-/// Number of figures each slot's table holds, and the tables themselves.
-std::vector<ReportField> describeSlot(int slot) {
-  switch (slot) {
-    case MusclePipeline::kPrediction: return describeTable(PredictionStage::kReport);
-    case MusclePipeline::kDescent: return describeTable(DescentStage::kReport);
-    case MusclePipeline::kContacts: return describeTable(ContactStage::kReport);
-    case MusclePipeline::kVolume: return describeTable(VolumeStage::kReport);
-    case MusclePipeline::kFibres: return describeTable(FibreStage::kReport);
-    case MusclePipeline::kSurface: return describeTable(SurfaceStage::kReport);
-  }
-  return {};
-}
-
-}  // namespace
 
 std::vector<ReportField> MusclePipeline::describeReports() {
   std::vector<ReportField> fields;
@@ -132,7 +134,7 @@ void MusclePipeline::appendReports(std::vector<double>& values) const {
     if (stages_[static_cast<size_t>(slot)] && !std::isnan(stage_ms_[static_cast<size_t>(slot)]))
       stages_[static_cast<size_t>(slot)]->appendReport(values);
     else
-      values.insert(values.end(), describeSlot(slot).size(), std::numeric_limits<double>::quiet_NaN());
+      values.insert(values.end(), slot_sizes_[static_cast<size_t>(slot)], std::numeric_limits<double>::quiet_NaN());
   }
   values.insert(values.end(), stage_ms_.begin(), stage_ms_.end());
   values.push_back(frame_ms_);

@@ -85,6 +85,7 @@ class MusclePipeline {
   std::shared_ptr<TissueLattice> lattice_;
   std::vector<std::unique_ptr<FrameStage>> stages_;  ///< one per slot, null where absent
   std::vector<double> stage_ms_;
+  std::vector<size_t> slot_sizes_;  ///< figures in each slot's table
   double frame_ms_ = 0.0;
   double rest_volume_mm3_ = 0.0;
   const class FibreStage* fibres_ = nullptr;
