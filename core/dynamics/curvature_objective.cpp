@@ -12,20 +12,12 @@ namespace {
 /// κ at p over the list, and (optionally) the active terms.
 template <class Sink>
 double sumCurvature(const DeformedField& field, const Eigen::Vector3d& p, const int* list, int count, Sink&& sink) {
-  const std::vector<DeformedKernel>& kernels = field.getKernels();
-  const double cutoff = field.getCutoffExponent();
   double laplacian = 0.0;
-  for (int i = 0; i < count; ++i) {
-    const DeformedKernel& k = kernels[static_cast<size_t>(list[i])];
-    const Eigen::Vector3d d = p - k.centre_mm;
-    const Eigen::Vector3d ad = k.applyMetric(d);
-    const double q = d.dot(ad);
-    if (q > cutoff) continue;
-    const double phi = std::exp(-q);
+  field.visitActiveAmong(p, list, count, [&](int index, const DeformedKernel& k, double phi, const Eigen::Vector3d& ad) {
     const double g = 4.0 * ad.squaredNorm() - 2.0 * k.trace;
     laplacian += k.weight * phi * g;
-    sink(list[i], phi, g, ad);
-  }
+    sink(index, phi, g, ad);
+  });
   return laplacian / 3.0;
 }
 

@@ -22,23 +22,16 @@ namespace {
 /// f and g = Σ cₖ φₖ at every point, over its list.
 void sumValues(const DeformedField& field, const Eigen::VectorXd& c, const Eigen::Matrix3Xd& points,
                const NeighbourLists& lists, Eigen::VectorXd& values, Eigen::VectorXd& corrections) {
-  const std::vector<DeformedKernel>& kernels = field.getKernels();
-  const double cutoff = field.getCutoffExponent();
   values.resize(points.cols());
   corrections.resize(points.cols());
   for (Eigen::Index j = 0; j < points.cols(); ++j) {
     const Eigen::Vector3d p = points.col(j);
-    const int* list = lists.begin(static_cast<int>(j));
     double f = 0.0, g = 0.0;
-    for (int i = 0, n = lists.count(static_cast<int>(j)); i < n; ++i) {
-      const DeformedKernel& k = kernels[static_cast<size_t>(list[i])];
-      const Eigen::Vector3d d = p - k.centre_mm;
-      const double q = d.dot(k.applyMetric(d));
-      if (q > cutoff) continue;
-      const double phi = std::exp(-q);
-      f += k.weight * phi;
-      g += c[list[i]] * phi;
-    }
+    field.visitActiveAmong(p, lists.begin(static_cast<int>(j)), lists.count(static_cast<int>(j)),
+                           [&](int index, const DeformedKernel& k, double phi, const Eigen::Vector3d&) {
+                             f += k.weight * phi;
+                             g += c[index] * phi;
+                           });
     values[j] = field.getOffset() + f;
     corrections[j] = g;
   }

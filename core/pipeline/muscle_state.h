@@ -42,16 +42,16 @@ struct MuscleState {
 /// The muscle as a set: g(y) = min(f(y), s(y)), inside where g > 0 — the field outside the
 /// bones. Gradient of the smaller one. With a kernel list (a carried point's rest neighbours,
 /// neighbour_lists.h) f sums that list only, so no search is built during a frame; without
-/// one, the field's general search.
+/// one, the field's general search. With `with_bones` false it is the field alone.
 class MuscleShape final : public ImplicitField {
  public:
-  explicit MuscleShape(const MuscleState& state, const int* kernels = nullptr, int count = 0)
-      : state_(state), kernels_(kernels), count_(count) {}
+  explicit MuscleShape(const MuscleState& state, const int* kernels = nullptr, int count = 0, bool with_bones = true)
+      : state_(state), kernels_(kernels), count_(count), with_bones_(with_bones) {}
   double calcValue(const Eigen::Vector3d& p_mm) const override { return calcSample(p_mm).value; }
   Eigen::Vector3d calcGradient(const Eigen::Vector3d& p_mm) const override { return calcSample(p_mm).gradient; }
   FieldSample calcSample(const Eigen::Vector3d& p_mm) const override {
     const FieldSample f = kernels_ ? state_.field.calcSampleAmong(p_mm, kernels_, count_) : state_.field.calcSample(p_mm);
-    if (!state_.bones) return f;
+    if (!state_.bones || !with_bones_) return f;
     const ClearanceSample s = state_.bones->sample(p_mm);  // far from every bone: s ≥ its band, the zero set is f's
     return s.near && s.value_mm < f.value ? FieldSample{s.value_mm, s.gradient} : f;
   }
@@ -60,6 +60,7 @@ class MuscleShape final : public ImplicitField {
   const MuscleState& state_;
   const int* kernels_;
   int count_;
+  bool with_bones_;
 };
 
 }  // namespace rbfmuscle

@@ -41,20 +41,6 @@ FieldSample projectOnto(const ImplicitField& g, Eigen::Vector3d& p, const Surfac
   return at;
 }
 
-/// The field alone, over a kernel list.
-class ListedField final : public ImplicitField {
- public:
-  ListedField(const DeformedField& field, const int* kernels, int count) : field_(field), kernels_(kernels), count_(count) {}
-  double calcValue(const Eigen::Vector3d& p) const override { return field_.calcValueAmong(p, kernels_, count_); }
-  Eigen::Vector3d calcGradient(const Eigen::Vector3d& p) const override { return calcSample(p).gradient; }
-  FieldSample calcSample(const Eigen::Vector3d& p) const override { return field_.calcSampleAmong(p, kernels_, count_); }
-
- private:
-  const DeformedField& field_;
-  const int* kernels_;
-  int count_;
-};
-
 }  // namespace
 
 void SurfaceStage::run(MuscleState& state, const FrameInput&) {
@@ -69,7 +55,7 @@ void SurfaceStage::run(MuscleState& state, const FrameInput&) {
     Eigen::Vector3d p = surface.vertices_mm.col(v);
     // First onto the field's surface f = 0 (smooth), then, where that lies in a bone, onto the
     // bone's surface: the surface of min(f, s) is f = 0 outside the bones and s = 0 on them.
-    projectOnto(ListedField(state.field, lists_.begin(j), lists_.count(j)), p, settings_);
+    projectOnto(MuscleShape(state, lists_.begin(j), lists_.count(j), false), p, settings_);
     const MuscleShape shape(state, lists_.begin(j), lists_.count(j));
     if (state.bones && state.bones->calcValue(p) < 0.0) projectOnto(*state.bones, p, settings_);
     const double g = shape.calcValue(p);

@@ -144,28 +144,19 @@ Eigen::Vector3d DeformedField::calcHalfExtents(int k) const {
 
 double DeformedField::calcValueAmong(const Eigen::Vector3d& p_mm, const int* kernels, int count) const {
   double sum = 0.0;
-  for (int i = 0; i < count; ++i) {
-    const DeformedKernel& k = kernels_[static_cast<size_t>(kernels[i])];
-    const Eigen::Vector3d d = p_mm - k.centre_mm;
-    const double q = d.dot(k.applyMetric(d));
-    if (q <= cutoff_exponent_) sum += k.weight * std::exp(-q);
-  }
+  visitActiveAmong(p_mm, kernels, count,
+                   [&](int, const DeformedKernel& k, double phi, const Eigen::Vector3d&) { sum += k.weight * phi; });
   return offset_ + sum;
 }
 
 FieldSample DeformedField::calcSampleAmong(const Eigen::Vector3d& p_mm, const int* kernels, int count) const {
   double sum = 0.0;
   Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
-  for (int i = 0; i < count; ++i) {
-    const DeformedKernel& k = kernels_[static_cast<size_t>(kernels[i])];
-    const Eigen::Vector3d d = p_mm - k.centre_mm;
-    const Eigen::Vector3d ad = k.applyMetric(d);
-    const double q = d.dot(ad);
-    if (q > cutoff_exponent_) continue;
-    const double lphi = k.weight * std::exp(-q);
+  visitActiveAmong(p_mm, kernels, count, [&](int, const DeformedKernel& k, double phi, const Eigen::Vector3d& ad) {
+    const double lphi = k.weight * phi;
     sum += lphi;
     gradient -= (2.0 * lphi) * ad;
-  }
+  });
   return FieldSample{offset_ + sum, gradient};
 }
 
@@ -205,13 +196,9 @@ double DeformedField::calcMeanCurvature(const Eigen::Vector3d& p_mm) const {
   int count = 0;
   grid().findCandidates(p_mm, first, count);
   double laplacian = 0.0;
-  for (int i = 0; i < count; ++i) {
-    const DeformedKernel& k = kernels_[static_cast<size_t>(first[i])];
-    const Eigen::Vector3d d = p_mm - k.centre_mm;
-    const Eigen::Vector3d ad = k.applyMetric(d);
-    const double q = d.dot(ad);
-    if (q <= cutoff_exponent_) laplacian += k.weight * std::exp(-q) * (4.0 * ad.squaredNorm() - 2.0 * k.trace);
-  }
+  visitActiveAmong(p_mm, first, count, [&](int, const DeformedKernel& k, double phi, const Eigen::Vector3d& ad) {
+    laplacian += k.weight * phi * (4.0 * ad.squaredNorm() - 2.0 * k.trace);
+  });
   return laplacian / 3.0;
 }
 
@@ -227,11 +214,8 @@ void DeformedField::findActiveKernels(const Eigen::Vector3d& p_mm, std::vector<i
   const int* first = nullptr;
   int count = 0;
   grid().findCandidates(p_mm, first, count);
-  for (int i = 0; i < count; ++i) {
-    const DeformedKernel& k = kernels_[static_cast<size_t>(first[i])];
-    const Eigen::Vector3d d = p_mm - k.centre_mm;
-    if (d.dot(k.applyMetric(d)) <= cutoff_exponent_) out.push_back(first[i]);
-  }
+  visitActiveAmong(p_mm, first, count,
+                   [&](int index, const DeformedKernel&, double, const Eigen::Vector3d&) { out.push_back(index); });
 }
 
 }  // namespace rbfmuscle

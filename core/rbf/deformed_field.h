@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <mutex>
 #include <vector>
 
@@ -95,6 +96,19 @@ class DeformedField final : public ImplicitField {
   /// A = α (F Fᵀ)⁻¹ with F's singular values clamped into the limits (clamped set when they were).
   static Eigen::Matrix3d calcMetric(double alpha_per_mm2, const Eigen::Matrix3d& frame, const FrameLimits& limits,
                                     bool* clamped = nullptr);
+
+  /// Calls visit(index, kernel, φ, A d) for each listed kernel (`count` indices) active at p
+  /// (φ ≥ ε), in list order, d = p − ξ: the one loop every sum over kernels runs.
+  template <class Visitor>
+  void visitActiveAmong(const Eigen::Vector3d& p_mm, const int* kernels, int count, Visitor&& visit) const {
+    for (int i = 0; i < count; ++i) {
+      const DeformedKernel& k = kernels_[static_cast<size_t>(kernels[i])];
+      const Eigen::Vector3d d = p_mm - k.centre_mm;
+      const Eigen::Vector3d ad = k.applyMetric(d);
+      const double q = d.dot(ad);
+      if (q <= cutoff_exponent_) visit(kernels[i], k, std::exp(-q), ad);
+    }
+  }
 
   /// f(p) over the listed kernels only (`count` ascending indices).
   double calcValueAmong(const Eigen::Vector3d& p_mm, const int* kernels, int count) const;
