@@ -15,15 +15,9 @@ namespace {
 /// Line-by-line reader that skips comments and names file:line in errors.
 class RecordReader {
  public:
-  explicit RecordReader(const std::string& path) : path_(path) {
-    const std::string problem = io::findInputFileProblem(path, "a .rbf surface file");
-    if (problem.rfind("is ", 0) == 0) throw RbfFileError(path + ": cannot open the .rbf file: it " + problem);
-    if (!problem.empty()) throw RbfFileError(path + ": cannot open the .rbf file (missing or unreadable)");
-    in_.open(path);
-    if (!in_) throw RbfFileError(path + ": cannot open the .rbf file");
-    std::error_code ec;
-    file_bytes_ = std::filesystem::file_size(path, ec);
-  }
+  /// Reads `in`, which holds `file_bytes` bytes; `path` names the file in errors.
+  RecordReader(std::istream& in, std::uintmax_t file_bytes, const std::string& path)
+      : path_(path), in_(in), file_bytes_(file_bytes) {}
 
   std::uintmax_t getFileBytes() const { return file_bytes_; }
   int getLineNumber() const { return line_number_; }
@@ -84,7 +78,7 @@ class RecordReader {
 
  private:
   std::string path_;
-  std::ifstream in_;
+  std::istream& in_;
   int line_number_ = 0;
   std::uintmax_t file_bytes_ = 0;
 };
@@ -97,6 +91,8 @@ void checkMagnitude(const RecordReader& reader, double value, double bound, cons
     reader.fail(text.str());
   }
 }
+
+RbfSurface readRbf(std::istream& in, std::uintmax_t file_bytes, const std::string& path);
 
 }  // namespace
 
@@ -136,7 +132,25 @@ void writeRbfFile(const std::string& path, const RbfSurface& s) {
 }
 
 RbfSurface readRbfFile(const std::string& path) {
-  RecordReader reader(path);
+  const std::string problem = io::findInputFileProblem(path, "a .rbf surface file");
+  if (problem.rfind("is ", 0) == 0) throw RbfFileError(path + ": cannot open the .rbf file: it " + problem);
+  if (!problem.empty()) throw RbfFileError(path + ": cannot open the .rbf file (missing or unreadable)");
+  std::ifstream in(path);
+  if (!in) throw RbfFileError(path + ": cannot open the .rbf file");
+  std::error_code ec;
+  const std::uintmax_t file_bytes = std::filesystem::file_size(path, ec);
+  return readRbf(in, file_bytes, path);
+}
+
+RbfSurface parseRbfText(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
+  return readRbf(in, text.size(), path);
+}
+
+namespace {
+
+RbfSurface readRbf(std::istream& in, std::uintmax_t file_bytes, const std::string& path) {
+  RecordReader reader(in, file_bytes, path);
   RbfSurface s;
   std::string rest;
   reader.next("rbfmuscle_rbf", rest);
@@ -194,5 +208,7 @@ RbfSurface readRbfFile(const std::string& path) {
   s.field = GaussianField(offset, centres, weights, shapes, cutoff);
   return s;
 }
+
+}  // namespace
 
 }  // namespace rbfmuscle

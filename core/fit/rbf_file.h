@@ -71,4 +71,8 @@ void writeRbfFile(const std::string& path, const RbfSurface& surface);
 /// beyond the bounds above.
 RbfSurface readRbfFile(const std::string& path);
 
+/// Parses the text of a .rbf file held in memory (what readRbfFile does after opening the
+/// file); `path` only names the file in errors. @throws RbfFileError as readRbfFile.
+RbfSurface parseRbfText(const std::string& text, const std::string& path);
+
 }  // namespace rbfmuscle

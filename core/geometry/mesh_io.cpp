@@ -89,8 +89,7 @@ void appendLittleEndian(std::string& out, std::uint64_t bits, int bytes) {
 }
 
 /// Reads PLY with the reader of ply_reader.h; polygons are fan-triangulated.
-RawMesh readPlyRaw(const std::string& path) {
-  detail::PlyContent ply = detail::readPly(path);
+RawMesh plyToRaw(detail::PlyContent ply) {
   RawMesh raw;
   raw.vertices = std::move(ply.vertices);
   for (const auto& face : ply.faces)
@@ -136,8 +135,7 @@ RawMesh readAssimpRaw(const std::string& path) {
 
 /// Reads VTK XML PolyData with the reader of vtp_reader.h (assimp has none); polygons and
 /// strips are triangulated, lines and vertices ignored.
-RawMesh readVtpRaw(const std::string& path) {
-  const VtpPolyData vtp = readVtpPolyData(path);
+RawMesh vtpToRaw(const VtpPolyData& vtp) {
   RawMesh raw;
   raw.vertices.resize(static_cast<std::size_t>(vtp.points.cols()));
   for (Eigen::Index v = 0; v < vtp.points.cols(); ++v)
@@ -155,6 +153,8 @@ bool hasExtension(const std::string& path, const std::string& ext) {
   for (char& ch : tail) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
   return tail == ext;
 }
+
+LoadedMesh finishMesh(const RawMesh& raw, const std::string& path);
 
 }  // namespace
 
@@ -174,9 +174,22 @@ LoadedMesh readMesh(const std::string& path) {
     std::ifstream probe(path, std::ios::binary);
     if (!probe) throw MeshError(path + ": cannot open mesh file (missing or unreadable)");
   }
-  const RawMesh raw = hasExtension(path, ".ply")   ? readPlyRaw(path)
-                     : hasExtension(path, ".vtp") ? readVtpRaw(path)
+  const RawMesh raw = hasExtension(path, ".ply")   ? plyToRaw(detail::readPly(path))
+                     : hasExtension(path, ".vtp") ? vtpToRaw(readVtpPolyData(path))
                                                     : readAssimpRaw(path);
+  return finishMesh(raw, path);
+}
+
+LoadedMesh parseMesh(const std::string& bytes, const std::string& path) {
+  if (hasExtension(path, ".ply")) return finishMesh(plyToRaw(detail::parsePly(bytes, path)), path);
+  if (hasExtension(path, ".vtp")) return finishMesh(vtpToRaw(parseVtpPolyData(bytes, path)), path);
+  throw MeshError(path + ": only .ply and .vtp meshes can be read from memory (expected one of those extensions)");
+}
+
+namespace {
+
+/// Checks the raw mesh's coordinates and extent, then welds and repairs it.
+LoadedMesh finishMesh(const RawMesh& raw, const std::string& path) {
   if (raw.triangles.empty()) throw MeshError(path + ": mesh contains no triangles");
   Eigen::AlignedBox3d box;
   for (const auto& t : raw.triangles)
@@ -210,6 +223,8 @@ LoadedMesh readMesh(const std::string& path) {
   loaded.repair = repairMesh(loaded.mesh);
   return loaded;
 }
+
+}  // namespace
 
 TriangleMesh loadMesh(const std::string& path, const MeshWarningFn& warn) {
   LoadedMesh loaded = readMesh(path);

@@ -54,6 +54,11 @@ struct LoadedMesh {
 ///         than kMinMeshExtent.
 LoadedMesh readMesh(const std::string& path);
 
+/// readMesh for the bytes of a .ply or .vtp file held in memory; `path` picks the reader by its
+/// extension and names the file in errors. @throws MeshError as readMesh, and for any other
+/// extension.
+LoadedMesh parseMesh(const std::string& bytes, const std::string& path);
+
 /// readMesh, passing the warning (LoadedMesh::describeDefects) to `warn` when the file had
 /// unused vertices or defects the loader repaired.
 /// @throws MeshError as readMesh.

@@ -142,7 +142,10 @@ PlyContent readPly(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw MeshError(path + ": cannot open mesh file (missing or unreadable)");
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parsePly(data, path);
+}
 
+PlyContent parsePly(const std::string& data, const std::string& path) {
   Format format = Format::Ascii;
   bool has_format = false;
   std::vector<Element> elements;

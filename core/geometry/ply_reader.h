@@ -34,4 +34,8 @@ constexpr long long kMaxPlyElementCount = 2147483647LL;
 ///         vertex element or no x, y, z, truncated data, index out of range.
 PlyContent readPly(const std::string& path);
 
+/// Parses the bytes of a PLY file held in memory (what readPly does after reading the file);
+/// `path` only names the file in errors.
+PlyContent parsePly(const std::string& data, const std::string& path);
+
 }  // namespace rbfmuscle::detail

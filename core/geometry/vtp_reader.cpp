@@ -17,6 +17,8 @@
 #include <string>
 #include <vector>
 
+#include "io/file_checks.h"
+
 namespace rbfmuscle {
 namespace {
 
@@ -446,8 +448,7 @@ Eigen::Matrix3Xi VtpPolyData::triangulate() const {
 }
 
 VtpPolyData readVtpPolyData(const std::string& path) {
-  FileContext f;
-  f.path = path;
+  io::requireRegularFile<MeshError>(path, "a VTP file");
   std::string text;
   {
     std::ifstream in(path, std::ios::binary);
@@ -459,6 +460,13 @@ VtpPolyData readVtpPolyData(const std::string& path) {
     text.resize(static_cast<std::size_t>(size));
     if (!in.read(&text[0], size)) throw MeshError(path + ": read error");
   }
+  return parseVtpPolyData(text, path);
+}
+
+VtpPolyData parseVtpPolyData(const std::string& text, const std::string& path) {
+  FileContext f;
+  f.path = path;
+  if (text.empty()) throw MeshError(path + ": the VTP file is empty");
   f.file_size = text.size();
 
   // Appended data may be raw binary, which is not XML: parse only what comes before it and

@@ -42,4 +42,8 @@ struct VtpPolyData {
 ///   file can hold, a non-finite coordinate, an offset that decreases or a vertex index out of range.
 VtpPolyData readVtpPolyData(const std::string& path);
 
+/// Parses the text of a .vtp file held in memory (what readVtpPolyData does after reading the
+/// file); `path` only names the file in errors. @throws MeshError as readVtpPolyData.
+VtpPolyData parseVtpPolyData(const std::string& text, const std::string& path);
+
 }  // namespace rbfmuscle

@@ -13,7 +13,10 @@ constexpr double kMetresToMm = 1000.0;  ///< translational coordinates in .mot f
 }  // namespace
 
 Motion Motion::fromFile(const std::string& path, const Skeleton& skeleton) {
-  const StorageTable table = readStorage(path);
+  return fromTable(readStorage(path), path, skeleton);
+}
+
+Motion Motion::fromTable(const StorageTable& table, const std::string& path, const Skeleton& skeleton) {
   const auto& labels = table.column_labels;
   const auto& names = skeleton.getCoordinateNames();
 

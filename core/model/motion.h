@@ -10,6 +10,7 @@
 namespace rbfmuscle {
 
 class Skeleton;
+struct StorageTable;
 
 /// Largest coordinate magnitude a motion may hold: 1e4 rad (about 1600 turns; 1e4 mm for a
 /// translational coordinate). A joint angle of a human motion stays within a turn; far beyond,
@@ -32,6 +33,9 @@ class Motion {
   ///   column for a value that is not finite or whose magnitude exceeds kMaxCoordinate_rad
   ///   (after conversion from degrees), or a time that does not increase.
   static Motion fromFile(const std::string& path, const Skeleton& skeleton);
+  /// fromFile for a table already read (readStorage, parseStorageText); `path` names the file
+  /// in errors. @throws ModelError as fromFile.
+  static Motion fromTable(const StorageTable& table, const std::string& path, const Skeleton& skeleton);
 
   int getNumFrames() const { return static_cast<int>(times_s_.size()); }
   double getTime(int frame) const { return times_s_[frame]; }

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <map>
 #include <set>
@@ -18,6 +19,7 @@
 
 #include "model/model_error.h"
 #include "model/urdf_description.h"
+#include "io/file_checks.h"
 
 namespace rbfmuscle::detail {
 namespace {
@@ -104,7 +106,8 @@ class OsimReader {
     dir_ = fs::absolute(fs::path(path_)).parent_path().lexically_normal();
   }
 
-  SkeletonDescription read();
+  /// Reads the model from the text of its file.
+  SkeletonDescription read(const std::string& xml_text);
 
  private:
   [[noreturn]] void fail(const XMLElement* e, const std::string& what) const {
@@ -618,13 +621,9 @@ void OsimReader::readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescri
   }
 }
 
-SkeletonDescription OsimReader::read() {
-  {
-    std::ifstream probe(path_);
-    if (!probe) throw ModelError("OpenSim model " + path_ + ": cannot open the file (missing or unreadable)");
-  }
+SkeletonDescription OsimReader::read(const std::string& xml_text) {
   tinyxml2::XMLDocument doc;
-  if (doc.LoadFile(path_.c_str()) != tinyxml2::XML_SUCCESS)
+  if (doc.Parse(xml_text.data(), xml_text.size()) != tinyxml2::XML_SUCCESS)
     throw ModelError("OpenSim model " + path_ + ", line " + std::to_string(doc.ErrorLineNum()) +
                      ": not well-formed XML (" + doc.ErrorName() + ")");
   const XMLElement* root = doc.RootElement();
@@ -691,6 +690,26 @@ SkeletonDescription OsimReader::read() {
 
 }  // namespace
 
-SkeletonDescription readOsim(const std::string& path) { return OsimReader(path).read(); }
+SkeletonDescription readOsim(const std::string& path) {
+  const std::string problem = io::findInputFileProblem(path, "an OpenSim model file (.osim)");
+  if (problem.rfind("is ", 0) == 0) throw ModelError("OpenSim model " + path + ": it " + problem);
+  if (!problem.empty()) throw ModelError("OpenSim model " + path + ": cannot open the file (missing or unreadable)");
+  std::error_code ec;
+  const std::uintmax_t bytes = fs::file_size(path, ec);
+  if (bytes > kMaxOsimFileBytes)
+    throw ModelError("OpenSim model " + path + ": " + std::to_string(bytes) + " bytes, more than the " +
+                     std::to_string(kMaxOsimFileBytes) + " a model file may have");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw ModelError("OpenSim model " + path + ": cannot open the file (missing or unreadable)");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parseOsim(text, path);
+}
+
+SkeletonDescription parseOsim(const std::string& text, const std::string& path) {
+  if (text.size() > kMaxOsimFileBytes)
+    throw ModelError("OpenSim model " + path + ": " + std::to_string(text.size()) + " bytes, more than the " +
+                     std::to_string(kMaxOsimFileBytes) + " a model file may have");
+  return OsimReader(path).read(text);
+}
 
 }  // namespace rbfmuscle::detail

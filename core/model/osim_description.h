@@ -39,6 +39,7 @@
 /// a coordinate that drives nothing; collinear axes; an enforced constraint (ConstraintSet); a
 /// joint type other than CustomJoint, PinJoint, WeldJoint; a reversed joint; a body with no joint
 /// or two, or not connected to ground; a frame that cannot be resolved; a missing geometry file.
+#include <cstdint>
 #include <string>
 
 #include "model/skeleton_description.h"
@@ -48,5 +49,13 @@ namespace rbfmuscle::detail {
 /// Reads an OpenSim model: bodies root (ground) first, each parent before its children.
 /// @throws ModelError "OpenSim model PATH, line N: <Element name="…">: what was expected".
 SkeletonDescription readOsim(const std::string& path);
+
+/// Parses the text of an OpenSim model held in memory (what readOsim does after reading the
+/// file); `path` names the file in errors, and geometry files are looked for beside it.
+/// @throws ModelError as readOsim.
+SkeletonDescription parseOsim(const std::string& text, const std::string& path);
+
+/// Largest OpenSim model file read (bytes): 64 MiB; full-body models are under 2 MB.
+inline constexpr std::uintmax_t kMaxOsimFileBytes = 64ull << 20;
 
 }  // namespace rbfmuscle::detail

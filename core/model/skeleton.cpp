@@ -64,6 +64,14 @@ Skeleton Skeleton::fromOsim(const std::string& osim_path) {
   return build(detail::readOsim(osim_path));
 }
 
+Skeleton Skeleton::fromUrdfText(const std::string& text, const std::string& path) {
+  return build(detail::describeUrdf(detail::parseUrdf(text, path)));
+}
+
+Skeleton Skeleton::fromOsimText(const std::string& text, const std::string& path) {
+  return build(detail::parseOsim(text, path));
+}
+
 Skeleton Skeleton::fromFile(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

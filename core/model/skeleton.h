@@ -67,6 +67,12 @@ class Skeleton {
   /// @throws ModelError naming the file for any other extension, or as those do.
   static Skeleton fromFile(const std::string& path);
 
+  /// fromUrdf and fromOsim for the text of the file held in memory; `path` names the file in
+  /// errors and is the place mesh and geometry paths are resolved from.
+  /// @throws ModelError as those do.
+  static Skeleton fromUrdfText(const std::string& text, const std::string& path);
+  static Skeleton fromOsimText(const std::string& text, const std::string& path);
+
   Skeleton(Skeleton&&) noexcept;
   Skeleton& operator=(Skeleton&&) noexcept;
   ~Skeleton();

@@ -125,6 +125,8 @@ std::string csvField(const std::string& s) {
   return q + "\"";
 }
 
+StorageTable readStorageStream(std::istream& in, const std::string& path);
+
 }  // namespace
 
 int StorageTable::findColumn(const std::string& label) const {
@@ -145,7 +147,20 @@ StorageTable readStorage(const std::string& path) {
   }
   std::ifstream in(path);
   if (!in) fail(path, 0, "cannot open it for reading (missing or unreadable)");
+  return readStorageStream(in, path);
+}
 
+StorageTable parseStorageText(const std::string& text, const std::string& path) {
+  if (text.size() > kMaxStorageFileBytes)
+    fail(path, 0, std::to_string(text.size()) + " bytes, more than the " + std::to_string(kMaxStorageFileBytes) +
+                      " a storage file may have");
+  std::istringstream in(text);
+  return readStorageStream(in, path);
+}
+
+namespace {
+
+StorageTable readStorageStream(std::istream& in, const std::string& path) {
   StorageTable table;
   std::string line;
   int line_no = 0;
@@ -247,6 +262,8 @@ StorageTable readStorage(const std::string& path) {
              std::to_string(table.rows.size()) + " data rows");
   return table;
 }
+
+}  // namespace
 
 void writeStorage(const std::string& path, const StorageTable& table) {
   checkTable(path, table);

@@ -37,6 +37,10 @@ constexpr unsigned long long kMaxStorageFileBytes = 1ull << 30;
 /// wrong length or a value that is not a number.
 StorageTable readStorage(const std::string& path);
 
+/// Parses the text of a storage file held in memory (what readStorage does after opening the
+/// file); `path` only names the file in errors. @throws ModelError as readStorage.
+StorageTable parseStorageText(const std::string& text, const std::string& path);
+
 /// Writes a .sto file (OpenSim storage version 1). Writes to a temporary file
 /// beside `path` and renames it, so a failure never leaves a half-written file.
 void writeStorage(const std::string& path, const StorageTable& table);

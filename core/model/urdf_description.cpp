@@ -285,13 +285,19 @@ UrdfDescription readUrdf(const std::string& path) {
   if (!in) throw ModelError(where(path, "cannot open the file (missing or unreadable)"));
   std::stringstream text;
   text << in.rdbuf();
+  return parseUrdf(text.str(), path);
+}
 
+UrdfDescription parseUrdf(const std::string& text, const std::string& path) {
+  if (text.size() > kMaxUrdfFileBytes)
+    throw ModelError(where(path, std::to_string(text.size()) + " bytes, more than the " +
+                                     std::to_string(kMaxUrdfFileBytes) + " a URDF file may have"));
   urdf::ModelInterfaceSharedPtr model;
   std::string log;
   {
     CaptureLog capture;
     try {
-      model = urdf::parseURDF(text.str());
+      model = urdf::parseURDF(text);
     } catch (const std::exception& e) {
       throw ModelError(where(path, std::string("urdfdom could not parse it: ") + e.what()));
     }

@@ -68,6 +68,11 @@ inline constexpr std::uintmax_t kMaxUrdfFileBytes = 64ull << 20;
 ///   above, or a mesh that does not exist.
 UrdfDescription readUrdf(const std::string& path);
 
+/// Parses the text of a URDF file held in memory (what readUrdf does after reading the file);
+/// `path` names the file in errors, and mesh paths are resolved relative to its directory.
+/// @throws ModelError as readUrdf.
+UrdfDescription parseUrdf(const std::string& text, const std::string& path);
+
 /// The same skeleton as the neutral description the Simbody builder reads: the root welded to
 /// ground, fixed joints welded at X_PJ, revolute joints pins about axis_J with X_PF = X_PJ and
 /// X_BM = identity, coordinates named after the revolute joints (rotational, default 0, range ±∞).

@@ -4,6 +4,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 
 namespace rbfmuscle {
 namespace {
@@ -63,6 +64,25 @@ TEST(RbfFile, RoundTripIsExact) {
   EXPECT_EQ(read.settings, written.settings);
   EXPECT_EQ(read.metrics_json, written.metrics_json);
   EXPECT_FALSE(fs::exists(path + ".partial"));
+}
+
+TEST(RbfFile, ParseFromMemoryEqualsReadingTheFile) {
+  const std::string path = (testDir() / "from_memory.rbf").string();
+  writeRbfFile(path, makeSurface());
+  std::ifstream in(path);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const RbfSurface parsed = parseRbfText(text, "memory.rbf");
+  const RbfSurface read = readRbfFile(path);
+  EXPECT_EQ(parsed.field.getCentres(), read.field.getCentres());
+  EXPECT_EQ(parsed.field.getWeights(), read.field.getWeights());
+  EXPECT_EQ(parsed.field.getShapes(), read.field.getShapes());
+  EXPECT_EQ(parsed.frame_offset_mm, read.frame_offset_mm);
+  try {
+    parseRbfText(validHeader(3), "memory.rbf");
+    ADD_FAILURE() << "a file without its centre lines was accepted";
+  } catch (const RbfFileError& e) {
+    EXPECT_NE(std::string(e.what()).find("memory.rbf:"), std::string::npos) << e.what();
+  }
 }
 
 TEST(RbfFile, ErrorsNameFileAndLine) {

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
 #include <iterator>
 #include <sstream>
 #include <limits>
@@ -56,6 +57,19 @@ TEST(MeshIo, LoadsShippedPlyWithFileCounts) {
     EXPECT_GE(m.triangles.minCoeff(), 0) << e.file;
     EXPECT_LT(m.triangles.maxCoeff(), m.countVertices()) << e.file;
   }
+}
+
+TEST(MeshIo, ParseMeshFromMemoryEqualsReadingTheFile) {
+  for (const char* file : {"shapes/block.ply", "shapes/tetrahedron.ply", "hip/meshes/pelvis_r_proxy.ply"}) {
+    std::ifstream in(modelPath(file), std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    const LoadedMesh from_memory = parseMesh(bytes, modelPath(file));
+    const LoadedMesh from_file = readMesh(modelPath(file));
+    EXPECT_EQ(from_memory.mesh.vertices_mm, from_file.mesh.vertices_mm) << file;
+    EXPECT_EQ(from_memory.mesh.triangles, from_file.mesh.triangles) << file;
+  }
+  expectMeshError([] { parseMesh("solid x\nendsolid x\n", "memory.stl"); }, {"memory.stl", ".ply and .vtp"});
+  expectMeshError([] { parseMesh("ply\nformat ascii 1.0\n", "memory.ply"); }, {"memory.ply", "end_header"});
 }
 
 TEST(MeshIo, MeshesWithoutDefectsLoadExactlyAsStoredAndWithoutWarning) {

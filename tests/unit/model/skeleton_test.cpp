@@ -5,6 +5,8 @@
 #include <algorithm>
 
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <string>
 
 #include "model_test_support.h"
@@ -103,6 +105,23 @@ TEST_F(HipSkeleton, NamesCoordinatesAndBodiesInTreeOrder) {
                                                                  "femur_r_adduction", "femur_r"}));
   EXPECT_EQ(skeleton_->findCoordinateIndex("knee_angle_r"), -1);
   EXPECT_EQ(skeleton_->findBodyIndex("tibia_r"), -1);
+}
+
+TEST_F(HipSkeleton, FromUrdfTextEqualsReadingTheFile) {
+  std::ifstream in(kHipUrdf);
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Skeleton from_text = Skeleton::fromUrdfText(text, kHipUrdf);
+  EXPECT_EQ(from_text.getCoordinateNames(), skeleton_->getCoordinateNames());
+  EXPECT_EQ(from_text.getBodyNames(), skeleton_->getBodyNames());
+  const Eigen::Vector3d q(0.3, -0.2, 0.1);
+  from_text.setCoordinateValues(q);
+  skeleton_->setCoordinateValues(q);
+  const int femur = skeleton_->findBodyIndex("femur_r");
+  EXPECT_TRUE(from_text.getBodyTransform(femur).isApprox(skeleton_->getBodyTransform(femur), 0.0));
+  skeleton_->setCoordinateValues(Eigen::Vector3d::Zero());
+  // Meshes resolve beside the path given: elsewhere they are missing, and the error says so.
+  expectModelError([&] { Skeleton::fromUrdfText(text, "/nonexistent/hip_r.urdf"); },
+                         {"URDF /nonexistent/hip_r.urdf", "does not exist"});
 }
 
 TEST_F(HipSkeleton, MeshesResolveBesideUrdfWithMmScale) {

@@ -55,6 +55,19 @@ TEST(StorageFile, WriteThenReadIsExact) {
   EXPECT_EQ(r.findColumn("nope"), -1);
 }
 
+TEST(StorageFile, ParseFromMemoryEqualsReadingTheFile) {
+  TempFile f("from_memory.sto");
+  writeStorage(f.path(), sampleTable());
+  const StorageTable read = readStorage(f.path());
+  const StorageTable parsed = parseStorageText(readAll(f.path()), "memory.sto");
+  EXPECT_EQ(parsed.column_labels, read.column_labels);
+  EXPECT_EQ(parsed.row_lines, read.row_lines);
+  ASSERT_EQ(parsed.rows.size(), read.rows.size());
+  EXPECT_EQ(parsed.rows[1], read.rows[1]);
+  expectModelError([] { parseStorageText("name\nendheader\ntime x\n0 1 2\n", "memory.sto"); },
+                   {"memory.sto, line 4", "3 values, expected 2"});
+}
+
 TEST(StorageFile, WrittenHeaderIsOpenSimStorage) {
   TempFile f("header.sto");
   writeStorage(f.path(), sampleTable());
