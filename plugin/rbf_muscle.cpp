@@ -129,6 +129,7 @@ void RBFMuscle::initialize(const InitContext& context) {
   settings.descent.max_iterations = descent_iterations.get();
   settings.fibres = fibres.get();
   settings.fibre_segments = fibre_segments.get();
+  settings.volume.max_correction = volume_max_correction.get();
   try {
     pipeline_ = std::make_unique<MusclePipeline>(muscle, settings);
   } catch (const std::invalid_argument& e) {
@@ -145,6 +146,23 @@ void RBFMuscle::initialize(const InitContext& context) {
   }
   line_of_action_ = std::make_unique<ViaPointPath>(makeViaPointPath(path_M, 0, 1, {}));
   bone_motion_M_.assign(2, Eigen::Isometry3d::Identity());
+  declareInvariants(settings);
+}
+
+void RBFMuscle::declareInvariants(const PipelineSettings& settings) {
+  const double infinity = std::numeric_limits<double>::infinity();
+  const double volume_tolerance = settings.volume.tolerance;
+  std::ostringstream volume;
+  volume << "volume within the volume step's tolerance, |V/V_rest - 1| <= " << volume_tolerance;
+  declareInvariant({"volume_ratio", 1.0 - volume_tolerance, 1.0 + volume_tolerance, volume.str()});
+  declareInvariant({"volume_mm3", 0.0, infinity, "volume finite and positive"});
+  declareInvariant({"line_of_action_length_mm", 0.0, infinity, "line of action finite"});
+  if (settings.fibres > 0) declareInvariant({"fibre_length_mm", 0.0, infinity, "every fibre length finite and positive"});
+  // The surface is tracked only for --frames-mesh (NaN otherwise). A vertex counts as found when
+  // |min(f, s)| is within the surface tolerance, so none lies deeper in a bone than that.
+  std::ostringstream depth;
+  depth << "tracked surface no deeper in a bone than the surface tolerance, " << settings.surface.tolerance << " mm";
+  declareInvariant({"surface_bone_depth_max_mm", -infinity, settings.surface.tolerance, depth.str(), true});
 }
 
 void RBFMuscle::update(const FrameState& state) {

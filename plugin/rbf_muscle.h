@@ -7,7 +7,10 @@
 /// XML `<RBFMuscle name="...">` with the properties below (lengths in mm in the ground frame
 /// at rest, the frame of the meshes), sockets `origin_body` and `insertion_body`, and outputs
 /// generated from the frame pipeline's stage reports (core/pipeline/muscle_pipeline.h; listed
-/// by `rbfmuscle info RBFMuscle`). The component only wires: it turns properties into a
+/// by `rbfmuscle info RBFMuscle`), with the invariants it promises on them every frame: volume
+/// within the volume step's tolerance, finite positive volume and fibre lengths, and a tracked
+/// surface (when there is one) no deeper in a bone than the surface's tolerance. The component
+/// only wires: it turns properties into a
 /// MuscleDefinition, hands each frame's bone poses to the pipeline, and reads its reports.
 /// The muscle frame M is the ground frame shifted to the rest mesh's box centre.
 #include "framework/component.h"
@@ -20,6 +23,7 @@
 namespace rbfmuscle {
 
 class MusclePipeline;
+struct PipelineSettings;
 struct ViaPointPath;
 
 class RBFMuscle final : public Component {
@@ -52,6 +56,10 @@ class RBFMuscle final : public Component {
   Property<int> descent_iterations{this, "descent_iterations", 1,
                                    "curvature-descent steps per frame (0 = the tissue map alone)",
                                    PropertyRange{0, 1000}};
+  Property<double> volume_max_correction{this, "volume_max_correction", 0.5,
+                                         "largest |δ| of the volume correction: the free kernels' weights change by at "
+                                         "most this fraction of themselves each frame",
+                                         PropertyRange{1e-6, 10.0}};
   BodySocket origin_body{this, "origin_body", "bone of the origin attachment"};
   BodySocket insertion_body{this, "insertion_body", "bone of the insertion attachment"};
 
@@ -63,6 +71,9 @@ class RBFMuscle final : public Component {
   void appendFrameGeometry(std::vector<FrameGeometry>& geometry) const override;
 
  private:
+  /// The promises checked by the run loop after every frame (invariant.h).
+  void declareInvariants(const PipelineSettings& settings);
+
   std::vector<std::unique_ptr<Output>> report_outputs_;  ///< one per pipeline report field
   std::vector<double> report_values_;                    ///< the last frame's reports
   Output attached_kernels_output_{this, "attached_kernels", "1", "kernels moving rigidly with a bone",

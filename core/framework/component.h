@@ -9,13 +9,15 @@
 ///   connectSockets() (names → bodies/components, extendConnectSockets()) →
 ///   initialize(InitContext) (heavy setup: load meshes, fit, build BVHs) →
 ///   update(FrameState) each frame (fills a result struct; no allocation) →
-///   outputs read the result struct; appendFrameGeometry() for --frames-mesh.
+///   outputs read the result struct; appendFrameGeometry() for --frames-mesh;
+///   the run loop checks the invariants the component declared on its outputs.
 ///
 /// Components are neither copyable nor movable: members register themselves
 /// with `this`.
 #include "framework/frame_geometry.h"
 #include "framework/frame_state.h"
 #include "framework/framework_error.h"
+#include "framework/invariant.h"
 #include "framework/output.h"
 #include "framework/property.h"
 #include "framework/socket.h"
@@ -45,6 +47,8 @@ class Component {
   const std::vector<AbstractProperty*>& getProperties() const { return properties_; }
   const std::vector<AbstractSocket*>& getSockets() const { return sockets_; }
   const std::vector<AbstractOutput*>& getOutputs() const { return outputs_; }
+  /// Promises about this component's outputs that the run loop checks after every frame.
+  const std::vector<Invariant>& getInvariants() const { return invariants_; }
   /// nullptr when there is none of that name.
   AbstractProperty* findProperty(const std::string& name) const;
   AbstractSocket* findSocket(const std::string& name) const;
@@ -71,6 +75,9 @@ class Component {
   virtual void extendFinalizeProperties() {}
   /// Checks after all sockets are connected (e.g. two sockets differ).
   virtual void extendConnectSockets(const ConnectionTargets& targets) { (void)targets; }
+  /// Declares a promise about one of this component's outputs (invariant.h), from the
+  /// constructor or initialize(); the run loop refuses one that names no output.
+  void declareInvariant(Invariant invariant) { invariants_.push_back(std::move(invariant)); }
 
  private:
   friend class AbstractProperty;
@@ -83,6 +90,7 @@ class Component {
   std::vector<AbstractProperty*> properties_;
   std::vector<AbstractSocket*> sockets_;
   std::vector<AbstractOutput*> outputs_;
+  std::vector<Invariant> invariants_;
 };
 
 }  // namespace rbfmuscle

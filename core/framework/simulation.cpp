@@ -190,6 +190,10 @@ RunSummary runModel(Model& model, const RunOptions& options) {
   std::vector<FrameGeometry> geometry_buffer;
   std::map<std::string, PvdSeries> series;
 
+  InvariantChecker invariants(components, options.strict_invariants, [](const std::string& line) {
+    std::fprintf(stderr, "rbfmuscle: warning: %s\n", line.c_str());
+    std::fflush(stderr);
+  });
   ProgressBar progress(frames, options.show_progress);
   const auto loop_start = Clock::now();
   for (int frame = 0; frame < frames; ++frame) {
@@ -232,6 +236,7 @@ RunSummary runModel(Model& model, const RunOptions& options) {
         throwAt(components[c]->getSourceLocation(), "update at frame " + std::to_string(frame) + ": " + errors[c]);
       addTime(summary.stages[1 + c], update_ms[c]);
     }
+    invariants.check(frame, time_s);
     start = Clock::now();
     reporter.record(time_s, skeleton.getCoordinateValues());
     addTime(summary.stages[1 + components.size()], msSince(start));
@@ -245,6 +250,10 @@ RunSummary runModel(Model& model, const RunOptions& options) {
     progress.update(frame + 1);
   }
   progress.finish();
+  summary.invariant_breaks = invariants.getBreaks();
+  for (const InvariantBreak& b : summary.invariant_breaks)
+    std::fprintf(stderr, "rbfmuscle: warning: %s.%s broke its invariant (%s) in %d of %d frames, first at frame %d\n",
+                 b.component.c_str(), b.output.c_str(), b.promise.c_str(), b.frames, frames, b.first_frame);
   summary.loop_seconds = msSince(loop_start) / 1000.0;
   summary.frames = frames;
   if (!frame_ms.empty()) {
@@ -292,6 +301,14 @@ void writeSummaryJson(const std::string& path, const Model& model, const RunSumm
     const ReportedTiming& r = summary.reported[i];
     out << "    {\"output\": " << jsonString(r.output) << ", \"median\": " << r.median_ms
         << ", \"max\": " << r.max_ms << "}" << (i + 1 < summary.reported.size() ? "," : "") << "\n";
+  }
+  out << "  ],\n"
+      << "  \"invariants_broken\": [\n";
+  for (std::size_t i = 0; i < summary.invariant_breaks.size(); ++i) {
+    const InvariantBreak& b = summary.invariant_breaks[i];
+    out << "    {\"output\": " << jsonString(b.component + "." + b.output) << ", \"promise\": " << jsonString(b.promise)
+        << ", \"frames\": " << b.frames << ", \"first_frame\": " << b.first_frame << "}"
+        << (i + 1 < summary.invariant_breaks.size() ? "," : "") << "\n";
   }
   out << "  ],\n"
       << "  \"machine\": {\"hardware_threads\": " << std::thread::hardware_concurrency()

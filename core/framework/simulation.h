@@ -3,9 +3,10 @@
 /// The run loop: initialize components, step through the motion, update each
 /// component, record outputs, and write OUTDIR all-or-nothing:
 ///   OUTDIR/outputs.sto, OUTDIR/outputs.csv (see Reporter),
-///   OUTDIR/summary.json (frames, wall time per frame, time per stage, and median and
-///   maximum of every recorded `*_ms` output),
+///   OUTDIR/summary.json (frames, wall time per frame, time per stage, median and
+///   maximum of every recorded `*_ms` output, and the invariants broken),
 ///   OUTDIR/meshes/NAME_#####.vtp + OUTDIR/NAME.pvd with --frames-mesh.
+#include "framework/invariant.h"
 #include "framework/model.h"
 
 #include <string>
@@ -27,6 +28,9 @@ struct RunOptions {
   /// (ProgressBar)
   bool show_progress = true;
   double load_seconds = 0.0;        ///< time the caller spent loading plugins and model (reported)
+  /// --strict: a frame that breaks an invariant a component declared (invariant.h) fails the
+  /// run; otherwise each broken invariant is warned about once on stderr and counted.
+  bool strict_invariants = false;
 };
 
 /// Wall time of one stage of the frame loop, over all frames.
@@ -53,6 +57,7 @@ struct RunSummary {
   double frame_max_ms = 0;
   std::vector<StageTiming> stages;
   std::vector<ReportedTiming> reported;  ///< every recorded `*_ms` output, in column order
+  std::vector<InvariantBreak> invariant_breaks;  ///< invariants broken (none under --strict)
 };
 
 /// Runs the model's motion. Components update in document order each frame

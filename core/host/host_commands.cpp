@@ -22,7 +22,8 @@ namespace fs = std::filesystem;
 
 const char* const kRunHelp =
     "usage: rbfmuscle run MODEL.xml -o OUTDIR [-L PLUGIN]... [--set C.P=V]... [--motion FILE]\n"
-    "                     [--frames-mesh] [--quiet] [--keep-partial]\n"
+    "                     [--report C.OUTPUT]...\n"
+    "                     [--frames-mesh] [--strict] [--quiet] [--keep-partial]\n"
     "\n"
     "Loads the plugins, builds the model from MODEL.xml, steps through its motion\n"
     "and writes, all or nothing (a failed run leaves OUTDIR untouched):\n"
@@ -41,7 +42,13 @@ const char* const kRunHelp =
     "                       (repeatable; later ones win), e.g. --set glmax_r.quadrature_points=2000\n"
     "  --motion FILE        use this motion file instead of MODEL.xml's (path relative to\n"
     "                       the current directory)\n"
+    "  --report C.OUTPUT    record only the outputs matching this pattern ('*' matches any\n"
+    "                       run of characters; repeatable), instead of the model's <reporter>\n"
     "  --frames-mesh        write each component's geometry per frame\n"
+    "  --strict             fail the run (exit 1, OUTDIR untouched) at the first frame that\n"
+    "                       breaks an invariant a component promises (e.g. a muscle's volume\n"
+    "                       within its tolerance, finite outputs); without it each broken\n"
+    "                       invariant is warned about once, with its frame, and counted\n"
     "  --quiet              no progress on stderr\n"
     "  --keep-partial       when stopped by SIGINT (Ctrl-C) or SIGTERM, keep OUTDIR.partial-PID\n"
     "                       (by default it is removed; the exit code is 130 or 143)\n"
@@ -76,7 +83,9 @@ struct CommandLine {
   std::string output;
   std::vector<std::string> overrides;  ///< --set COMPONENT.PROPERTY=VALUE, in order
   std::string motion;                  ///< --motion FILE ("" = the model's)
+  std::vector<std::string> reports;    ///< --report PATTERN, in order (empty = the model's)
   bool frames_mesh = false;
+  bool strict = false;
   bool quiet = false;
   bool help = false;
 };
@@ -102,8 +111,12 @@ CommandLine parseCommandLine(const std::vector<std::string>& args, bool with_run
       line.overrides.push_back(value());
     } else if (with_run && a == "--motion") {
       line.motion = value();
+    } else if (with_run && a == "--report") {
+      line.reports.push_back(value());
     } else if (with_run && a == "--frames-mesh") {
       line.frames_mesh = true;
+    } else if (with_run && a == "--strict") {
+      line.strict = true;
     } else if (with_run && a == "--quiet") {
       line.quiet = true;
     } else if (with_run && a == "--keep-partial") {
@@ -158,6 +171,7 @@ int runCommand(const std::vector<std::string>& args) {
   ModelDocument document = readModelDocument(line.positional[0]);
   for (const std::string& assignment : line.overrides) applyPropertyOverride(document, assignment);
   if (!line.motion.empty()) overrideMotion(document, line.motion);
+  if (!line.reports.empty()) overrideReporter(document, line.reports);
   // OUTDIR is replaced as a whole when the run succeeds: it may not hold an input.
   const std::pair<const char*, std::string> inputs[] = {{"model file", document.path},
                                                          {"model directory", document.directory},
@@ -180,6 +194,7 @@ int runCommand(const std::vector<std::string>& args) {
   options.output_directory = line.output;
   options.write_frame_meshes = line.frames_mesh;
   options.show_progress = !line.quiet;
+  options.strict_invariants = line.strict;
   options.load_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const RunSummary summary = runModel(model, options);

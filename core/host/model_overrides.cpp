@@ -44,4 +44,14 @@ void overrideMotion(ModelDocument& document, const std::string& path) {
   document.motion.location = {"command line", 0, "--motion " + path};
 }
 
+void overrideReporter(ModelDocument& document, const std::vector<std::string>& patterns) {
+  std::string all;
+  for (const std::string& pattern : patterns) {
+    if (pattern.empty()) throw UsageError("--report needs a pattern COMPONENT.OUTPUT");
+    all += (all.empty() ? "" : " ") + pattern;
+  }
+  document.reporter_patterns = patterns;
+  document.reporter_location = {"command line", 0, "--report " + all};
+}
+
 }  // namespace rbfmuscle

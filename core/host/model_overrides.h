@@ -1,13 +1,14 @@
 #pragma once
 /// @file
 /// Command-line changes to a parsed model document, for sweeps without editing
-/// the model file: `--set COMPONENT.PROPERTY=VALUE` and `--motion FILE`.
+/// the model file: `--set COMPONENT.PROPERTY=VALUE`, `--motion FILE` and `--report PATTERN`.
 /// They act on the document before any component is built, so a bad property
 /// name or value is reported by Model::build like one written in the XML, with
 /// the location "command line: --set ...".
 #include "framework/model_document.h"
 
 #include <string>
+#include <vector>
 
 namespace rbfmuscle {
 
@@ -23,5 +24,10 @@ void applyPropertyOverride(ModelDocument& document, const std::string& assignmen
 /// Errors reading it later name "command line: --motion PATH".
 /// @throws UsageError when `path` is empty.
 void overrideMotion(ModelDocument& document, const std::string& path);
+
+/// Replaces the model's `<reporter outputs="...">` patterns by `patterns` (COMPONENT.OUTPUT,
+/// '*' any run of characters), e.g. to record a few outputs of a long run. Errors about them
+/// name "command line: --report PATTERN". @throws UsageError for an empty pattern.
+void overrideReporter(ModelDocument& document, const std::vector<std::string>& patterns);
 
 }  // namespace rbfmuscle

@@ -4,6 +4,10 @@
 
 namespace rbfmuscle::testplugin {
 
+void BodyOriginReporter::initialize(const InitContext&) {
+  declareInvariant({"x_mm", x_min_mm.get(), std::numeric_limits<double>::infinity(), "P stays at x >= x_min_mm"});
+}
+
 void BodyOriginReporter::update(const FrameState& state) {
   result_.p_GP_mm = state.getBodyTransform(body) * point_mm.get();
 }

@@ -103,6 +103,41 @@ TEST(RBFMusclePlugin, GluteusFollowsFlexionWithVolumeKept) {
   }
 }
 
+/// A 75° hip flexion in one frame: each frame depends only on its own bone poses, so the muscle
+/// keeps every invariant it declares (volume within tolerance, finite positive volume and fibre
+/// lengths, tracked surface out of the bones) and a --strict run with frame meshes succeeds.
+TEST(RBFMusclePlugin, A75DegreeJumpInOneFrameKeepsEveryInvariant) {
+  const fs::path dir = testDir("jump");
+  const fs::path motion = fs::path(RBFMUSCLE_SOURCE_DIR) / "tests/integration/plugin/data/jump_flexion_75.mot";
+  const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
+                                         "' --quiet --strict --frames-mesh --motion '" + motion.string() + "'",
+                                     "plugin", "jump");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("invariant"), std::string::npos) << r.err;
+  const StorageTable t = readStorage((dir / "out/outputs.sto").string());
+  ASSERT_EQ(t.rows.size(), 2u);
+  const int depth = t.findColumn("glmax_r.surface_bone_depth_max_mm");
+  ASSERT_GE(depth, 0);
+  EXPECT_TRUE(std::isfinite(t.rows[1][static_cast<size_t>(depth)])) << "the surface was tracked and checked";
+}
+
+/// The same jump with the volume correction bounded to almost nothing: the volume cannot be held
+/// and --strict fails at the jump's frame, naming the muscle, its output and the bound.
+TEST(RBFMusclePlugin, A75DegreeJumpWithoutVolumeCorrectionFailsUnderStrict) {
+  const fs::path dir = testDir("jump_strict");
+  const fs::path motion = fs::path(RBFMUSCLE_SOURCE_DIR) / "tests/integration/plugin/data/jump_flexion_75.mot";
+  const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
+                                         "' --quiet --strict --set glmax_r.volume_max_correction=1e-6 --motion '" +
+                                         motion.string() + "'",
+                                     "plugin", "jump_strict");
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  for (const char* part : {"rbfmuscle: error: ", "<RBFMuscle name=\"glmax_r\">", "frame 1 (t = 0.0333333 s)",
+                           "glmax_r.volume_ratio = ", "volume within the volume step's tolerance",
+                           "from 0.999 to 1.001", "[--strict]"})
+    EXPECT_NE(r.err.find(part), std::string::npos) << "missing '" << part << "' in: " << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 TEST(RBFMusclePlugin, RunsOnOneAndTwoThreadsGiveIdenticalOutputs) {
   const fs::path dir = testDir("determinism");
   const fs::path model = writeModel(dir, kCachedGluteus, kOrigin, "hip_flexion_0_80_step10.mot");
