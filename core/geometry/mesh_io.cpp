@@ -221,6 +221,9 @@ LoadedMesh finishMesh(const RawMesh& raw, const std::string& path) {
   LoadedMesh loaded;
   loaded.mesh = weld(raw, loaded.unused_vertices);
   loaded.repair = repairMesh(loaded.mesh);
+  if (loaded.mesh.countTriangles() == 0)  // every triangle was collapsed or a duplicate
+    throw MeshError(path + ": mesh contains no triangles once collapsed and duplicate triangles are removed (" +
+                    std::to_string(raw.triangles.size()) + " in the file)");
   return loaded;
 }
 

@@ -346,6 +346,11 @@ void OsimReader::readMassProperties(const OsimBody& b, SkeletonBody& out) const 
     const double xy = number(e, "inertia_xy", 0), xz = number(e, "inertia_xz", 0), yz = number(e, "inertia_yz", 0);
     I_C << xx, xy, xz, xy, yy, yz, xz, yz, zz;
   }
+  if (!(c.cwiseAbs().maxCoeff() <= kMaxOsimOffset_mm))
+    fail(child(e, "mass_center"), "mass centre more than 1000 m from the body's origin: expected a point on the body");
+  const double to_m = to_mm_ / 1000.0;
+  const std::string problem = findMassPropertiesProblem(mass, to_m * to_m * I_C);
+  if (!problem.empty()) fail(&e, "body '" + b.name + "': " + problem);
   out.com_B_mm = c;
   out.inertia_B_kgmm2 = to_mm_ * to_mm_ * I_C + mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
 }

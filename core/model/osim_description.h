@@ -55,6 +55,9 @@ SkeletonDescription readOsim(const std::string& path);
 /// @throws ModelError as readOsim.
 SkeletonDescription parseOsim(const std::string& text, const std::string& path);
 
+/// Farthest a mass centre may lie from its body's origin (mm): 1000 m, as URDF origins.
+inline constexpr double kMaxOsimOffset_mm = 1e6;
+
 /// Largest OpenSim model file read (bytes): 64 MiB; full-body models are under 2 MB.
 inline constexpr std::uintmax_t kMaxOsimFileBytes = 64ull << 20;
 

@@ -169,7 +169,15 @@ Skeleton Skeleton::build(detail::SkeletonDescription d) {
     impl->body_mobod.push_back(index);
   }
 
-  impl->system.realizeTopology();
+  // The readers check mass properties, poses and axes; whatever Simbody still refuses is named
+  // with the file instead of escaping as a SimTK exception.
+  try {
+    impl->system.realizeTopology();
+  } catch (const std::exception& e) {
+    std::string why = e.what();  // Simbody's text spans lines: one line for the error message
+    std::replace(why.begin(), why.end(), '\n', ' ');
+    throw ModelError(d.format + " " + path + ": Simbody cannot build the skeleton: " + why);
+  }
   impl->state = impl->system.getDefaultState();
   impl->q_rad = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(d.coordinates.size()));
   for (std::size_t i = 0; i < d.coordinates.size(); ++i) impl->q_rad[static_cast<Eigen::Index>(i)] = d.coordinates[i].default_value;

@@ -3,6 +3,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
@@ -92,6 +93,27 @@ Eigen::VectorXd solveRotation(const RotationChain& chain, const Eigen::Matrix3d&
 }
 
 }  // namespace
+
+std::string findMassPropertiesProblem(double mass_kg, const Eigen::Matrix3d& I_C) {
+  std::ostringstream why;
+  if (!std::isfinite(mass_kg) || mass_kg < 0.0 || mass_kg > kMaxBodyMass_kg) {
+    why << "mass " << mass_kg << " kg: expected a finite mass from 0 to " << kMaxBodyMass_kg << " kg";
+    return why.str();
+  }
+  if (!I_C.allFinite() || !I_C.isApprox(I_C.transpose(), 0.0)) return "inertia: expected finite, symmetric values";
+  const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I_C, Eigen::EigenvaluesOnly).eigenvalues();
+  // Rounding of the eigen-decomposition: a few units in the last place of the largest moment.
+  const double slop = 1e-12 * std::max(moments.cwiseAbs().maxCoeff(), 1e-300);
+  const double sum = moments.sum();
+  for (int k = 0; k < 3; ++k)
+    if (moments[k] < -slop || moments[k] > kMaxBodyInertia_kgm2 || moments[k] > sum - moments[k] + slop) {
+      why << "inertia about the mass centre has principal moments " << moments[0] << ", " << moments[1] << ", "
+          << moments[2] << ": expected each from 0 to " << kMaxBodyInertia_kgm2
+          << " and at most the sum of the other two (no rigid body has other moments)";
+      return why.str();
+    }
+  return "";
+}
 
 Eigen::Isometry3d calcJointTransform(const SkeletonBody& body, const Eigen::VectorXd& q) {
   Eigen::Isometry3d X = Eigen::Isometry3d::Identity();

@@ -66,6 +66,19 @@ struct SkeletonDescription {
   std::vector<CoordinateInfo> coordinates;
 };
 
+/// Largest body mass a skeleton file may give (kg), and largest principal moment of inertia
+/// about the mass centre (kg·m²): far beyond any body part, close enough that the parallel-axis
+/// shifts of the builder stay finite.
+inline constexpr double kMaxBodyMass_kg = 1e6;
+inline constexpr double kMaxBodyInertia_kgm2 = 1e6;
+
+/// Why `mass_kg` and the inertia `I_C` about the mass centre (kg·m², any consistent units) cannot
+/// be a rigid body's, or "" when they can: a mass that is negative or above kMaxBodyMass_kg, an
+/// inertia that is not symmetric, has a negative principal moment, a moment above
+/// kMaxBodyInertia_kgm2, or one larger than the sum of the other two (the triangle inequality
+/// every real body meets, which Simbody enforces by throwing while it builds the system).
+std::string findMassPropertiesProblem(double mass_kg, const Eigen::Matrix3d& I_C);
+
 /// X_FM of `body`'s joint at the coordinates `q` (all of the skeleton's, rad or mm), computed
 /// with Eigen from the description (not through Simbody).
 Eigen::Isometry3d calcJointTransform(const SkeletonBody& body, const Eigen::VectorXd& q);

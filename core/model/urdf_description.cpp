@@ -128,6 +128,8 @@ void readInertial(const urdf::Link& in, UrdfLink& out) {
   const Eigen::Isometry3d X_BC = toIsometry_mm(i.origin);
   Eigen::Matrix3d I_C;  // about the mass centre, in the inertial frame C, kg·m²
   I_C << i.ixx, i.ixy, i.ixz, i.ixy, i.iyy, i.iyz, i.ixz, i.iyz, i.izz;
+  const std::string problem = findMassPropertiesProblem(i.mass, I_C);
+  if (!problem.empty()) throw ModelError("link '" + in.name + "': <inertial> " + problem);
   const Eigen::Vector3d c = X_BC.translation();
   // Rotate into link axes, m² → mm², then the parallel-axis shift to the origin.
   out.com_B_mm = c;
@@ -170,6 +172,7 @@ void addLink(const std::string& urdf_path, const urdf::Link& link, int parent,
       }
     }
   }
+  if (link.inertial) checkPose(urdf_path, link.inertial->origin, "link '" + link.name + "': <inertial>");
   try {
     readInertial(link, l);
   } catch (const ModelError& e) {

@@ -72,6 +72,15 @@ TEST(MeshIo, ParseMeshFromMemoryEqualsReadingTheFile) {
   expectMeshError([] { parseMesh("ply\nformat ascii 1.0\n", "memory.ply"); }, {"memory.ply", "end_header"});
 }
 
+// Found by fuzz_ply: a binary PLY whose only triangle has coinciding corners. Repair removes the
+// collapsed triangle, so the loader returned a mesh without triangles, which every later step
+// assumes it has.
+TEST(MeshIo, AMeshWhoseTrianglesAllCollapseIsRefusedNamingTheFile) {
+  const std::string path = std::string(RBFMUSCLE_SOURCE_DIR) + "/tests/unit/geometry/data/fuzz/all_triangles_collapse.ply";
+  expectMeshError([&] { readMesh(path); },
+                  {path, "no triangles once collapsed and duplicate triangles are removed (1 in the file)"});
+}
+
 TEST(MeshIo, MeshesWithoutDefectsLoadExactlyAsStoredAndWithoutWarning) {
   for (const char* file : {"shapes/box.ply", "shapes/rod.ply", "shapes/block.ply", "shapes/tetrahedron.ply",
                            "hip/meshes/femur_r.ply", "hip/meshes/gluteus_maximus_r.ply", "hip/meshes/iliacus_r.ply",

@@ -334,6 +334,11 @@ TEST(OsimErrors, RefusedConstructsNameTheElementAndLine) {
                    {path("missing_geometry.osim") + ", line 15: <DisplayGeometry>: geometry file "
                                                     "'.\\geometry\\tibia_missing.vtp' not found (looked for ",
                     "/geometry/tibia_missing.vtp"});
+  // Found by fuzz_osim: the pelvis of three_bodies_v4.osim with Iyz = 1 (Ixx = Iyy = Izz = 0.1),
+  // principal moments -0.9, 0.1, 1.1; Simbody threw an exception of its own while building.
+  expectModelError([&] { Skeleton::fromOsim(path("fuzz_negative_principal_inertia.osim")); },
+                   {path("fuzz_negative_principal_inertia.osim") + ", line 12: <Body name=\"pelvis\">: body 'pelvis': "
+                                                                   "inertia about the mass centre has principal moments -0.9"});
   expectModelError([] { Skeleton::fromOsim("/nonexistent/model.osim"); },
                    {"OpenSim model /nonexistent/model.osim: cannot open the file"});
   test::TempFile broken("broken.osim");

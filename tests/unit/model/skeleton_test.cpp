@@ -302,6 +302,25 @@ TEST(SkeletonErrors, UrdfJointOriginFarAwayIsRefusedNamingTheJoint) {
   expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "joint 'j'", "origin xyz 1e+09 0 0 m"});
 }
 
+// Found by fuzz_urdf: the hip URDF with the pelvis's ixx raised to 1.1 (iyy = izz = 0.1). No
+// rigid body has such moments; Simbody threw an exception of its own from deep in its build.
+TEST(SkeletonErrors, UrdfInertiaNoBodyCanHaveIsRefusedNamingTheLink) {
+  const std::string path = std::string(RBFMUSCLE_SOURCE_DIR) + "/tests/unit/model/data/fuzz/inertia_breaks_triangle_inequality.urdf";
+  expectModelError([&] { Skeleton::fromUrdf(path); },
+                   {"URDF " + path, "link 'pelvis': <inertial> inertia about the mass centre has principal moments",
+                    "at most the sum of the other two"});
+}
+
+TEST(SkeletonErrors, UrdfNegativeOrHugeMassAndFarInertialOriginAreRefused) {
+  TempFile f("bad_mass.urdf");
+  f.write(R"(<robot name="r"><link name="a"><inertial><mass value="-1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>)");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "link 'a'", "mass -1 kg: expected a finite mass from 0"});
+  f.write(R"(<robot name="r"><link name="a"><inertial><mass value="1e300"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>)");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "link 'a'", "mass 1e+300 kg"});
+  f.write(R"(<robot name="r"><link name="a"><inertial><origin xyz="0 1e300 0"/><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>)");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "link 'a': <inertial>: origin xyz 0 1e+300 0 m"});
+}
+
 TEST(SkeletonErrors, UrdfPathThatIsADeviceIsRefusedWithoutReading) {
   expectModelError([] { Skeleton::fromUrdf("/dev/zero"); }, {"/dev/zero", "is a character device, not a regular file"});
 }
