@@ -400,6 +400,11 @@ std::vector<std::vector<int>> readCells(const FileContext& f, const tinyxml2::XM
       fail(f, offsets_xml->GetLineNum(), describeArray(*offsets_xml, section) + ": offset " + std::to_string(c + 1) + " (" +
                                              std::to_string(o) + ") is not an integer at least the previous one (" +
                                              std::to_string(previous) + ")");
+    // Checked before it becomes a count: a double beyond any integer type would not convert.
+    if (o > static_cast<double>(kMaxInflateRatio * f.file_size))
+      fail(f, offsets_xml->GetLineNum(), describeArray(*offsets_xml, section) + ": offset " + std::to_string(c + 1) + " (" +
+                                             std::to_string(o) + ") is more than a file of " +
+                                             std::to_string(f.file_size) + " bytes can hold (counts beyond the file size)");
     previous = o;
   }
   const std::vector<double> conn = readArray(f, *conn_xml, section, static_cast<std::uint64_t>(previous));
@@ -448,7 +453,8 @@ Eigen::Matrix3Xi VtpPolyData::triangulate() const {
 }
 
 VtpPolyData readVtpPolyData(const std::string& path) {
-  io::requireRegularFile<MeshError>(path, "a VTP file");
+  const std::string problem = io::findInputFileProblem(path, "a VTP file");
+  if (problem.rfind("is ", 0) == 0) throw MeshError(path + ": " + problem);
   std::string text;
   {
     std::ifstream in(path, std::ios::binary);

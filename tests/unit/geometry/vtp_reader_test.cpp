@@ -365,6 +365,14 @@ TEST(VtpReader, CountsBeyondTheFileSizeAreRefusedBeforeAllocating) {
   expectMeshError([&] { readVtpPolyData(path); }, {path + ": line 5: DataArray of Points: compression header says", "compressed bytes but the array holds at most"});
 }
 
+// Found by fuzz_vtp: an ASCII offset of 1.1e33 was converted to an unsigned count before any
+// bound was checked (undefined behaviour: the value fits no integer type).
+TEST(VtpReader, AnOffsetBeyondAnyCountIsRefusedBeforeItBecomesOne) {
+  const std::string path = std::string(RBFMUSCLE_SOURCE_DIR) + "/tests/unit/geometry/data/fuzz/offset_beyond_any_count.vtp";
+  expectMeshError([&] { readVtpPolyData(path); },
+                  {path + ": line 6: DataArray 'offsets' of Polys: offset 4 (", "is more than a file of 775 bytes can hold"});
+}
+
 TEST(VtpReader, TruncatedFilesAreNamed) {
   const auto dir = makeTempDir("vtp_truncated");
   std::string full;
