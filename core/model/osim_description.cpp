@@ -366,7 +366,8 @@ std::string OsimReader::resolveGeometryPath(const XMLElement& where, const std::
   std::string tried;
   for (const fs::path& p : candidates) {
     const fs::path normal = p.lexically_normal();
-    if (fs::is_regular_file(normal)) return normal.string();
+    std::error_code ec;  // a name too long for the system is a file not found, not an exception
+    if (fs::is_regular_file(normal, ec)) return normal.string();
     tried += (tried.empty() ? "" : ", ") + normal.string();
   }
   fail(&where, "geometry file '" + file + "' not found (looked for " + tried + ")");

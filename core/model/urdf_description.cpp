@@ -85,7 +85,8 @@ std::string resolveMeshPath(const std::string& urdf_path, const std::string& lin
   fs::path p(name);
   if (p.is_relative()) p = fs::absolute(fs::path(urdf_path)).parent_path() / p;
   p = p.lexically_normal();
-  if (!fs::is_regular_file(p))
+  std::error_code ec;  // a name too long for the system is a file that does not exist, not an exception
+  if (!fs::is_regular_file(p, ec))
     throw ModelError(where(urdf_path, "link '" + link + "': mesh file '" + p.string() +
                                           "' (from filename=\"" + filename + "\") does not exist"));
   return p.string();

@@ -339,6 +339,11 @@ TEST(OsimErrors, RefusedConstructsNameTheElementAndLine) {
   expectModelError([&] { Skeleton::fromOsim(path("fuzz_negative_principal_inertia.osim")); },
                    {path("fuzz_negative_principal_inertia.osim") + ", line 12: <Body name=\"pelvis\">: body 'pelvis': "
                                                                    "inertia about the mass centre has principal moments -0.9"});
+  // Found by fuzz_osim: a geometry file name longer than the system allows made the file-system
+  // query throw std::filesystem::filesystem_error ("File name too long") out of the reader.
+  expectModelError([&] { Skeleton::fromOsim(path("fuzz_geometry_name_too_long.osim")); },
+                   {path("fuzz_geometry_name_too_long.osim") + ", line 16: <DisplayGeometry>: geometry file '",
+                    "not found (looked for "});
   expectModelError([] { Skeleton::fromOsim("/nonexistent/model.osim"); },
                    {"OpenSim model /nonexistent/model.osim: cannot open the file"});
   test::TempFile broken("broken.osim");

@@ -321,6 +321,16 @@ TEST(SkeletonErrors, UrdfNegativeOrHugeMassAndFarInertialOriginAreRefused) {
   expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "link 'a': <inertial>: origin xyz 0 1e+300 0 m"});
 }
 
+// As fuzz_osim found for OpenSim geometry: a mesh name longer than the system allows is a
+// missing mesh, not a std::filesystem exception.
+TEST(SkeletonErrors, UrdfMeshNameLongerThanTheSystemAllowsIsAMissingMesh) {
+  TempFile f("long_mesh_name.urdf");
+  const std::string name = std::string(5000, 'm') + ".ply";
+  f.write("<robot name=\"r\"><link name=\"bone\"><visual><geometry><mesh filename=\"" + name +
+          "\"/></geometry></visual></link></robot>");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "link 'bone'", "does not exist"});
+}
+
 TEST(SkeletonErrors, UrdfPathThatIsADeviceIsRefusedWithoutReading) {
   expectModelError([] { Skeleton::fromUrdf("/dev/zero"); }, {"/dev/zero", "is a character device, not a regular file"});
 }
