@@ -309,6 +309,18 @@ UrdfDescription parseUrdf(const std::string& text, const std::string& path) {
   }
   if (!model || !model->getRoot())
     throw ModelError(where(path, "urdfdom could not parse it" + (log.empty() ? "" : ": " + log)));
+  // urdfdom's links hold their children by shared_ptr, so links whose joints form a cycle (refused
+  // by checkTree) keep each other alive: unlink them whenever the model is dropped.
+  struct BreakLinkCycles {
+    urdf::ModelInterface& model;
+    ~BreakLinkCycles() {
+      for (auto& [name, link] : model.links_)
+        if (link) {
+          link->child_links.clear();
+          link->child_joints.clear();
+        }
+    }
+  } break_cycles{*model};
 
   checkTree(path, *model);
   UrdfDescription d;
