@@ -252,8 +252,10 @@ void BoneSet::queryProbes(const Eigen::Matrix3Xd& p_W, double query_radius_mm,
       const Bone& bone = bones[std::size_t(b)];
       const Eigen::Vector3d p_B = bone.X_BW * p;
       if (cull) {
+        // A probe in the bone's box may be inside the bone, deeper than in the bone found so
+        // far: only a probe outside the box is as far from the bone as from its box.
         const double box_d = std::sqrt(bone.box_B.squaredExteriorDistance(p_B));
-        if (box_d > r || box_d >= res.signed_distance_mm) {
+        if (box_d > r || (box_d > 0.0 && box_d >= res.signed_distance_mm)) {
           ++pairs_culled;
           continue;
         }

@@ -153,6 +153,21 @@ TEST(BoneSet, BroadPhaseSkipsFarBonesAndChangesNoAnswer) {
   EXPECT_GT(none, 100);
 }
 
+// Found by the sanitized build (clang) on the hip bones: a probe inside a first bone was never
+// checked against a second whose box holds it, though it lay deeper inside the second.
+TEST(BoneSet, AProbeInsideTwoBonesIsAnsweredByTheOneItIsDeeperIn) {
+  BoneSet bones;
+  bones.addBone("small", test::makeCube(10.0, 0.0));   // [0, 10]³: the probe is 1 mm deep
+  bones.addBone("large", test::makeCube(40.0, -20.0)); // [-20, 20]³: the probe is 15 mm deep
+  Eigen::Matrix3Xd p_W(3, 1);
+  p_W << 1.0, 5.0, 5.0;
+  std::vector<ContactQueryResult> out;
+  bones.queryProbes(p_W, 20.0, out);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0].bone, 1);
+  EXPECT_NEAR(out[0].signed_distance_mm, -15.0, 1e-9);
+}
+
 TEST(BoneSet, FclSphereStageCullsBoneWhoseBoxOverlapsButSurfaceIsFar) {
   BoneSet bones;
   bones.addBone("ball", test::makeIcosphere(30.0, 3));
