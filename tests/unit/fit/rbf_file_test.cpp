@@ -31,9 +31,12 @@ RbfSurface makeSurface() {
   return s;
 }
 
-/// Writes `text` as a .rbf file and returns the error message of reading it.
+/// Writes `text` as a .rbf file and returns the error message of reading it. The file is named
+/// bad.rbf in a folder of the running test's own, so tests run in parallel do not share it.
 std::string readError(const std::string& text) {
-  const fs::path path = testDir() / "bad.rbf";
+  const fs::path dir = testDir() / ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  fs::create_directories(dir);
+  const fs::path path = dir / "bad.rbf";
   std::ofstream(path) << text;
   try {
     readRbfFile(path.string());
