@@ -31,15 +31,20 @@ class RBFMuscle final : public Component {
   Property<int> centres{this, "centres", 1000, "Gaussian kernels of a fit", PropertyRange{1, 100000}};
   Property<std::string> origin_area{this, "origin_area",
                                     "origin attachment area on the origin body: 'FILE: CLOUD, …' (landmark clouds "
-                                    "of a JSON file, relative to the model file) or 'x y z; …' (mm, ground at rest)"};
-  Property<std::string> insertion_area{this, "insertion_area", "insertion attachment area, as origin_area"};
+                                    "of a JSON file, relative to the model file), 'FILE.osim: MUSCLE, …' (their first "
+                                    "path points in the skeleton's OpenSim model) or 'x y z; …' (mm, ground at rest)"};
+  Property<std::string> insertion_area{this, "insertion_area",
+                                       "insertion attachment area, as origin_area (from an OpenSim model: the "
+                                       "muscles' last path points)"};
   Property<double> attachment_radius_mm{this, "attachment_radius_mm", 10.0,
                                         "kernels centred within this distance of an area point move rigidly with its "
                                         "bone (mm)",
                                         PropertyRange{0.1, 1000.0}};
-  Property<std::string> line_of_action_mm{this, "line_of_action_mm", std::string(),
-                                          "'x y z; …' via-point path for comparison, origin body first, insertion body "
-                                          "last (mm, ground at rest); '' = the straight line between the areas' means"};
+  Property<std::string> line_of_action{this, "line_of_action", std::string(),
+                                       "path to compare with: 'x y z; …' via points, origin body first, insertion "
+                                       "body last (mm, ground at rest), or 'FILE.osim: MUSCLE' (a muscle of the "
+                                       "OpenSim model the skeleton is read from); '' = the straight line between "
+                                       "the areas' means"};
   Property<int> fibres{this, "fibres", 100, "fibres from the origin area to the insertion area (0 = none)",
                        PropertyRange{0, 10000}};
   Property<int> fibre_segments{this, "fibre_segments", 15, "segments per fibre", PropertyRange{1, 1000}};
@@ -63,6 +68,12 @@ class RBFMuscle final : public Component {
   void appendFrameGeometry(std::vector<FrameGeometry>& geometry) const override;
 
  private:
+  /// Reads an area property (rest, M; 3×K). `last`: an OpenSim muscle's insertion, else its origin.
+  Eigen::Matrix3Xd readArea_M(const Property<std::string>& spec, const InitContext& context, bool last) const;
+  /// Sets line_of_action_ and path_bodies_ from the property (default: the areas' means).
+  void makeLineOfAction(const InitContext& context, const Eigen::Matrix3Xd& origin_area_M,
+                        const Eigen::Matrix3Xd& insertion_area_M);
+
   std::vector<std::unique_ptr<Output>> report_outputs_;  ///< one per pipeline report field
   std::vector<double> report_values_;                    ///< the last frame's reports
   Output attached_kernels_output_{this, "attached_kernels", "1", "kernels moving rigidly with a bone",
@@ -77,8 +88,10 @@ class RBFMuscle final : public Component {
   Eigen::Vector3d frame_offset_mm_ = Eigen::Vector3d::Zero();  ///< origin of M in ground
   std::vector<int> bone_bodies_;                               ///< origin, insertion
   std::vector<Eigen::Isometry3d> X_GB_rest_;                   ///< their poses at rest
+  std::vector<Eigen::Isometry3d> X_GB_path_rest_;              ///< path bodies' poses at rest
   std::vector<int> contact_bodies_;                            ///< skeleton body of each contact bone
-  std::vector<Eigen::Isometry3d> bone_motion_M_, X_MB_;        ///< per frame, reused
+  std::vector<int> path_bodies_;                               ///< skeleton body of each bone of the line of action
+  std::vector<Eigen::Isometry3d> bone_motion_M_, path_motion_M_, X_MB_;  ///< per frame, reused
   double attached_kernels_ = 0.0;
   double line_of_action_length_mm_ = 0.0;
   Eigen::VectorXd no_fibres_;

@@ -335,7 +335,7 @@ TEST(OsimErrors, RefusedConstructsNameTheElementAndLine) {
                                                     "'.\\geometry\\tibia_missing.vtp' not found (looked for ",
                     "/geometry/tibia_missing.vtp"});
   expectModelError([] { Skeleton::fromOsim("/nonexistent/model.osim"); },
-                   {"OpenSim model /nonexistent/model.osim: cannot open the file"});
+                   {"OpenSim model /nonexistent/model.osim: cannot open it: no such file"});
   test::TempFile broken("broken.osim");
   broken.write("<?xml version=\"1.0\"?>\n<OpenSimDocument Version=\"30000\">\n<Model name=\"m\">\n<BodySet>\n");
   expectModelError([&] { Skeleton::fromOsim(broken.path()); }, {broken.path() + ", line ", "not well-formed XML"});
