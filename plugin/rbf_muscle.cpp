@@ -13,6 +13,7 @@
 #include "geometry/mesh_distance.h"
 #include "geometry/solid_mesh.h"
 #include "model/attachment_areas.h"
+#include "model/moment_arms.h"
 #include "model/osim_muscle_path.h"
 #include "model/skeleton.h"
 #include "pipeline/muscle_pipeline.h"
@@ -132,6 +133,7 @@ void RBFMuscle::initialize(const InitContext& context) {
   }
 
   makeLineOfAction(context, muscle.origin_area_M, muscle.insertion_area_M);
+  makeMomentArmOutputs(skeleton);
   bone_motion_M_.assign(2, Eigen::Isometry3d::Identity());
 }
 
@@ -192,22 +194,66 @@ void RBFMuscle::update(const FrameState& state) {
   for (int body : contact_bodies_) moved = moved || state.hasBodyMoved(body);
   for (int body : path_bodies_) moved = moved || state.hasBodyMoved(body);
   if (!moved) return;  // nothing this muscle depends on moved: the last frame stands
-  const Eigen::Translation3d to_M(-frame_offset_mm_), from_M(frame_offset_mm_);
-  FrameInput input;
-  for (size_t b = 0; b < 2; ++b)
-    bone_motion_M_[b] = to_M * state.getBodyTransform(bone_bodies_[b]) * X_GB_rest_[b].inverse() * from_M;
-  X_MB_.resize(contact_bodies_.size());
-  for (size_t b = 0; b < contact_bodies_.size(); ++b) X_MB_[b] = to_M * state.getBodyTransform(contact_bodies_[b]);
-  input.bone_motion_M = bone_motion_M_;
-  input.X_MB = X_MB_;
-  input.want_surface = state.wantsGeometry();
-  pipeline_->run(input);
+  if (moment_arms_) {
+    // Every frame depends on its poses only, so probing poses either side leaves no trace.
+    moment_arms_->update(state.getCoordinates(), [this](const Skeleton& posed, const Eigen::VectorXd& q) {
+      runFrame([&](int body) { return posed.getBodyTransform(body); }, q, false);
+      Eigen::VectorXd lengths(pipeline_->getFibreLengths().size() + 1);
+      lengths << pipeline_->getFibreLengths(), line_of_action_length_mm_;
+      return lengths;
+    });
+    const Eigen::Index fibre_count = pipeline_->getFibreLengths().size();
+    for (size_t k = 0; k < moment_arms_->getCoordinates().size(); ++k) {
+      const Eigen::VectorXd& arms = moment_arms_->getArms(k);
+      fibre_moment_arms_mm_[k] = arms.head(fibre_count);
+      fibre_moment_arm_mean_mm_[k] = fibre_count ? arms.head(fibre_count).mean() : std::numeric_limits<double>::quiet_NaN();
+      line_of_action_moment_arm_mm_[k] = arms[fibre_count];
+    }
+  }
+  runFrame([&](int body) { return state.getBodyTransform(body); }, state.getCoordinates(), state.wantsGeometry());
   report_values_.clear();
   pipeline_->appendReports(report_values_);
+}
+
+void RBFMuscle::runFrame(const std::function<Eigen::Isometry3d(int)>& X_GB, const Eigen::VectorXd& q, bool want_surface) {
+  const Eigen::Translation3d to_M(-frame_offset_mm_), from_M(frame_offset_mm_);
+  FrameInput input;
+  for (size_t b = 0; b < 2; ++b) bone_motion_M_[b] = to_M * X_GB(bone_bodies_[b]) * X_GB_rest_[b].inverse() * from_M;
+  X_MB_.resize(contact_bodies_.size());
+  for (size_t b = 0; b < contact_bodies_.size(); ++b) X_MB_[b] = to_M * X_GB(contact_bodies_[b]);
+  input.bone_motion_M = bone_motion_M_;
+  input.X_MB = X_MB_;
+  input.want_surface = want_surface;
+  pipeline_->run(input);
   path_motion_M_.resize(path_bodies_.size());
   for (size_t b = 0; b < path_bodies_.size(); ++b)
-    path_motion_M_[b] = to_M * state.getBodyTransform(path_bodies_[b]) * X_GB_path_rest_[b].inverse() * from_M;
-  line_of_action_length_mm_ = calcPathLength(*line_of_action_, path_motion_M_, state.getCoordinates());
+    path_motion_M_[b] = to_M * X_GB(path_bodies_[b]) * X_GB_path_rest_[b].inverse() * from_M;
+  line_of_action_length_mm_ = calcPathLength(*line_of_action_, path_motion_M_, q);
+}
+
+void RBFMuscle::makeMomentArmOutputs(const Skeleton& skeleton) {
+  const std::vector<int> coordinates = parseCoordinateList(moment_arms.get(), skeleton);
+  if (coordinates.empty()) return;
+  moment_arms_ = std::make_unique<MomentArms>(skeleton, coordinates);
+  const size_t n = coordinates.size();
+  fibre_moment_arm_mean_mm_.assign(n, std::numeric_limits<double>::quiet_NaN());
+  line_of_action_moment_arm_mm_.assign(n, std::numeric_limits<double>::quiet_NaN());
+  fibre_moment_arms_mm_.assign(n, Eigen::VectorXd::Constant(fibres.get(), std::numeric_limits<double>::quiet_NaN()));
+  for (size_t k = 0; k < n; ++k) {
+    const std::string& name = skeleton.getCoordinateNames()[static_cast<size_t>(coordinates[k])];
+    const std::string per = skeleton.getCoordinates()[static_cast<size_t>(coordinates[k])].motion ==
+                                    CoordinateMotion::kRotational ? "mm per rad" : "mm per mm";
+    moment_arm_outputs_.push_back(std::make_unique<Output>(
+        this, "moment_arm_" + name + "_mm", "mm", "mean over fibres of the moment arm −∂l/∂q about " + name + " (" + per + ")",
+        [this, k] { return fibre_moment_arm_mean_mm_[k]; }));
+    moment_arm_outputs_.push_back(std::make_unique<Output>(
+        this, "line_of_action_moment_arm_" + name + "_mm", "mm", "moment arm of the line of action about " + name + " (" + per + ")",
+        [this, k] { return line_of_action_moment_arm_mm_[k]; }));
+    if (moment_arms_per_fibre.get())
+      moment_arm_outputs_.push_back(std::make_unique<VectorOutput>(
+          this, "fibre_moment_arm_" + name + "_mm", "mm", "moment arm of each fibre about " + name + " (" + per + ")",
+          [this, k]() -> const Eigen::VectorXd& { return fibre_moment_arms_mm_[k]; }));
+  }
 }
 
 void RBFMuscle::appendFrameGeometry(std::vector<FrameGeometry>& geometry) const {

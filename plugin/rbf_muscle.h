@@ -14,12 +14,15 @@
 
 #include <Eigen/Geometry>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
 namespace rbfmuscle {
 
+class MomentArms;
 class MusclePipeline;
+class Skeleton;
 struct ViaPointPath;
 
 class RBFMuscle final : public Component {
@@ -57,6 +60,12 @@ class RBFMuscle final : public Component {
   Property<int> descent_iterations{this, "descent_iterations", 1,
                                    "curvature-descent steps per frame (0 = the tissue map alone)",
                                    PropertyRange{0, 1000}};
+  Property<std::string> moment_arms{this, "moment_arms", std::string(),
+                                    "coordinates whose moment arms −∂l/∂q are reported (outputs moment_arm_<coordinate>_mm, "
+                                    "the mean over fibres, and line_of_action_moment_arm_<coordinate>_mm): 'all' or "
+                                    "names 'a, b'; '' = none. Each coordinate re-runs the frame twice (central difference)"};
+  Property<bool> moment_arms_per_fibre{this, "moment_arms_per_fibre", false,
+                                       "also report each fibre's moment arm (fibre_moment_arm_<coordinate>_mm)"};
   BodySocket origin_body{this, "origin_body", "bone of the origin attachment"};
   BodySocket insertion_body{this, "insertion_body", "bone of the insertion attachment"};
 
@@ -70,6 +79,10 @@ class RBFMuscle final : public Component {
  private:
   /// Reads an area property (rest, M; 3×K). `last`: an OpenSim muscle's insertion, else its origin.
   Eigen::Matrix3Xd readArea_M(const Property<std::string>& spec, const InitContext& context, bool last) const;
+  /// Runs the pipeline and the line of action at body poses X_GB(body) and coordinates q.
+  void runFrame(const std::function<Eigen::Isometry3d(int)>& X_GB, const Eigen::VectorXd& q, bool want_surface);
+  /// The moment-arm probe and its outputs for the coordinates `moment_arms` names.
+  void makeMomentArmOutputs(const Skeleton& skeleton);
   /// Sets line_of_action_ and path_bodies_ from the property (default: the areas' means).
   void makeLineOfAction(const InitContext& context, const Eigen::Matrix3Xd& origin_area_M,
                         const Eigen::Matrix3Xd& insertion_area_M);
@@ -84,6 +97,10 @@ class RBFMuscle final : public Component {
   VectorOutput fibre_lengths_output_;
 
   std::unique_ptr<MusclePipeline> pipeline_;
+  std::unique_ptr<MomentArms> moment_arms_;                   ///< null without moment_arms
+  std::vector<std::unique_ptr<AbstractOutput>> moment_arm_outputs_;
+  std::vector<double> fibre_moment_arm_mean_mm_, line_of_action_moment_arm_mm_;  ///< per probed coordinate
+  std::vector<Eigen::VectorXd> fibre_moment_arms_mm_;                           ///< per probed coordinate
   std::unique_ptr<ViaPointPath> line_of_action_;
   Eigen::Vector3d frame_offset_mm_ = Eigen::Vector3d::Zero();  ///< origin of M in ground
   std::vector<int> bone_bodies_;                               ///< origin, insertion
