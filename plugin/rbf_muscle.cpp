@@ -249,10 +249,9 @@ void RBFMuscle::makeMomentArmOutputs(const Skeleton& skeleton) {
     moment_arm_outputs_.push_back(std::make_unique<Output>(
         this, "line_of_action_moment_arm_" + name + "_mm", "mm", "moment arm of the line of action about " + name + " (" + per + ")",
         [this, k] { return line_of_action_moment_arm_mm_[k]; }));
-    if (moment_arms_per_fibre.get())
-      moment_arm_outputs_.push_back(std::make_unique<VectorOutput>(
-          this, "fibre_moment_arm_" + name + "_mm", "mm", "moment arm of each fibre about " + name + " (" + per + ")",
-          [this, k]() -> const Eigen::VectorXd& { return fibre_moment_arms_mm_[k]; }));
+    moment_arm_outputs_.push_back(std::make_unique<VectorOutput>(
+        this, "fibre_moment_arm_" + name + "_mm", "mm", "moment arm of each fibre about " + name + " (" + per + ")",
+        [this, k]() -> const Eigen::VectorXd& { return fibre_moment_arms_mm_[k]; }));
   }
 }
 

@@ -62,10 +62,9 @@ class RBFMuscle final : public Component {
                                    PropertyRange{0, 1000}};
   Property<std::string> moment_arms{this, "moment_arms", std::string(),
                                     "coordinates whose moment arms −∂l/∂q are reported (outputs moment_arm_<coordinate>_mm, "
-                                    "the mean over fibres, and line_of_action_moment_arm_<coordinate>_mm): 'all' or "
-                                    "names 'a, b'; '' = none. Each coordinate re-runs the frame twice (central difference)"};
-  Property<bool> moment_arms_per_fibre{this, "moment_arms_per_fibre", false,
-                                       "also report each fibre's moment arm (fibre_moment_arm_<coordinate>_mm)"};
+                                    "the mean over fibres, fibre_moment_arm_<coordinate>_mm, each fibre's, and "
+                                    "line_of_action_moment_arm_<coordinate>_mm): 'all' or names 'a, b'; '' = none. "
+                                    "Each coordinate re-runs the frame twice (central difference)"};
   BodySocket origin_body{this, "origin_body", "bone of the origin attachment"};
   BodySocket insertion_body{this, "insertion_body", "bone of the insertion attachment"};
 

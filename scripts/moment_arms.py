@@ -30,7 +30,7 @@ def run_scene(scene, coordinate, out_root):
     out = os.path.join(out_root, scene)
     sets = []
     for m in MUSCLES:
-        sets += ["--set", f"{m}.moment_arms={coordinate}", "--set", f"{m}.moment_arms_per_fibre=true"]
+        sets += ["--set", f"{m}.moment_arms={coordinate}"]
     subprocess.run([HOST, "run", os.path.join(ROOT, "models", "hip", scene + ".xml"), "-o", out, "--quiet"] + sets,
                    check=True)
     with open(os.path.join(out, "outputs.csv")) as f:

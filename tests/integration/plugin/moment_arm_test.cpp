@@ -61,7 +61,7 @@ class MomentArmScene : public ::testing::Test {
         << "      <centres>300</centres>\n"
         << "      <origin_area>5 0 0; 5 10 10; 5 -10 10; 5 10 -10; 5 -10 -10</origin_area>\n"
         << "      <insertion_area>195 0 0; 195 10 10; 195 -10 10; 195 10 -10; 195 -10 -10</insertion_area>\n"
-        << "      <moment_arms>hinge</moment_arms>\n      <moment_arms_per_fibre>true</moment_arms_per_fibre>\n"
+        << "      <moment_arms>hinge</moment_arms>\n"
         << "      <socket_origin_body>upper</socket_origin_body>\n      <socket_insertion_body>lower</socket_insertion_body>\n"
         << "    </RBFMuscle>\n  </components>\n</RBFMuscleModel>\n";
     const test::HostResult r = test::runHost("run '" + (dir_ / "model.xml").string() + "' -o '" + (dir_ / "out").string() +
