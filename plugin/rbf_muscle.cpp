@@ -122,10 +122,10 @@ void RBFMuscle::initialize(const InitContext& context) {
       }
 
   PipelineSettings settings;
-  settings.quadrature_points = quadrature_points.get();
-  settings.descent.max_iterations = descent_iterations.get();
-  settings.fibres = fibres.get();
-  settings.fibre_segments = fibre_segments.get();
+  settings.quadrature_points = volume_settings.quadrature_points.get();
+  settings.descent.max_iterations = descent_settings.iterations.get();
+  settings.fibres = fibre_settings.count.get();
+  settings.fibre_segments = fibre_settings.segments.get();
   try {
     pipeline_ = std::make_unique<MusclePipeline>(muscle, settings);
   } catch (const std::invalid_argument& e) {
@@ -238,7 +238,7 @@ void RBFMuscle::makeMomentArmOutputs(const Skeleton& skeleton) {
   const size_t n = coordinates.size();
   fibre_moment_arm_mean_mm_.assign(n, std::numeric_limits<double>::quiet_NaN());
   line_of_action_moment_arm_mm_.assign(n, std::numeric_limits<double>::quiet_NaN());
-  fibre_moment_arms_mm_.assign(n, Eigen::VectorXd::Constant(fibres.get(), std::numeric_limits<double>::quiet_NaN()));
+  fibre_moment_arms_mm_.assign(n, Eigen::VectorXd::Constant(fibre_settings.count.get(), std::numeric_limits<double>::quiet_NaN()));
   for (size_t k = 0; k < n; ++k) {
     const std::string& name = skeleton.getCoordinateNames()[static_cast<size_t>(coordinates[k])];
     const std::string per = skeleton.getCoordinates()[static_cast<size_t>(coordinates[k])].motion ==

@@ -5,12 +5,14 @@
 /// tissue between its bones, kept out of the bones, with its volume and its fibres.
 ///
 /// XML `<RBFMuscle name="...">` with the properties below (lengths in mm in the ground frame
-/// at rest, the frame of the meshes), sockets `origin_body` and `insertion_body`, and outputs
+/// at rest, the frame of the meshes), the stage settings `<fibres>`, `<volume>` and `<descent>`
+/// (stage_settings.h), sockets `origin_body` and `insertion_body`, and outputs
 /// generated from the frame pipeline's stage reports (core/pipeline/muscle_pipeline.h; listed
 /// by `rbfmuscle info RBFMuscle`). The component only wires: it turns properties into a
 /// MuscleDefinition, hands each frame's bone poses to the pipeline, and reads its reports.
 /// The muscle frame M is the ground frame shifted to the rest mesh's box centre.
 #include "framework/component.h"
+#include "stage_settings.h"
 
 #include <Eigen/Geometry>
 
@@ -48,23 +50,17 @@ class RBFMuscle final : public Component {
                                        "body last (mm, ground at rest), or 'FILE.osim: MUSCLE' (a muscle of the "
                                        "OpenSim model the skeleton is read from); '' = the straight line between "
                                        "the areas' means"};
-  Property<int> fibres{this, "fibres", 100, "fibres from the origin area to the insertion area (0 = none)",
-                       PropertyRange{0, 10000}};
-  Property<int> fibre_segments{this, "fibre_segments", 15, "segments per fibre", PropertyRange{1, 1000}};
   Property<bool> contacts{this, "contacts", true,
                           "keep the muscle out of every body with a mesh (its collision meshes, else its visual ones; "
                           "false: bones are ignored)"};
-  Property<int> quadrature_points{this, "quadrature_points", 2000,
-                                  "points of the volume measure over the muscle and a shell around it",
-                                  PropertyRange{64, 200000}};
-  Property<int> descent_iterations{this, "descent_iterations", 1,
-                                   "curvature-descent steps per frame (0 = the tissue map alone)",
-                                   PropertyRange{0, 1000}};
   Property<std::string> moment_arms{this, "moment_arms", std::string(),
                                     "coordinates whose moment arms −∂l/∂q are reported (outputs moment_arm_<coordinate>_mm, "
                                     "the mean over fibres, fibre_moment_arm_<coordinate>_mm, each fibre's, and "
                                     "line_of_action_moment_arm_<coordinate>_mm): 'all' or names 'a, b'; '' = none. "
                                     "Each coordinate re-runs the frame twice (central difference)"};
+  FibreSubcomponent fibre_settings{this};
+  VolumeSubcomponent volume_settings{this};
+  DescentSubcomponent descent_settings{this};
   BodySocket origin_body{this, "origin_body", "bone of the origin attachment"};
   BodySocket insertion_body{this, "insertion_body", "bone of the insertion attachment"};
 
