@@ -4,6 +4,7 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -28,6 +29,7 @@ using tinyxml2::XMLElement;
 
 constexpr int kMaxFrameDepth = 16;  ///< frames attached to frames, at most this deep
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
+constexpr const char* kAxisNames[6] = {"rotation1", "rotation2", "rotation3", "translation1", "translation2", "translation3"};
 
 /// Rotation from OpenSim's body-fixed XYZ angles (rad): Rx(a) · Ry(b) · Rz(c).
 Eigen::Matrix3d bodyFixedXYZ(const Eigen::Vector3d& a) {
@@ -92,6 +94,14 @@ class OsimReader : public OsimXml {
                const Eigen::Vector3d& scale, std::vector<BodyMesh>& out) const;
   std::string resolveGeometryPath(const XMLElement& where, const std::string& file) const;
   void readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescription& d) const;
+  void readCustomJoint(const OsimJoint& j, const std::vector<std::pair<std::string, const XMLElement*>>& coordinates,
+                       SkeletonBody& out, SkeletonDescription& d) const;
+  /// The six TransformAxis elements of a CustomJoint, rotation1 … translation3.
+  std::array<const XMLElement*, 6> findTransformAxes(const XMLElement& joint) const;
+  /// An axis's function element (3.x: inside <function>; 4.x: its child), checked; null without one.
+  const XMLElement* findAxisFunction(const XMLElement& axis) const;
+  /// The axis's function as the skeleton reads it (coordinate index not yet set).
+  AxisFunction readAxisFunction(const XMLElement& axis, const XMLElement* function, const std::string& coordinate) const;
   std::vector<std::pair<std::string, const XMLElement*>> readCoordinateElements(const XMLElement& joint) const;
   int addCoordinate(const XMLElement* element, const std::string& name, CoordinateMotion motion,
                     const std::string& joint, SkeletonDescription& d) const;
@@ -425,41 +435,70 @@ void OsimReader::readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescri
   }
   if (j.type != "CustomJoint")
     fail(&e, "joint type " + j.type + " is not supported (expected CustomJoint, PinJoint or WeldJoint)");
+  readCustomJoint(j, coordinates, out, d);
+}
 
-  out.joint_kind = JointKind::kSpatial;
-  const XMLElement* st = child(e, "SpatialTransform");
-  if (!st) fail(&e, "a CustomJoint needs a <SpatialTransform>");
-  static const char* const kAxisNames[6] = {"rotation1", "rotation2", "rotation3", "translation1", "translation2", "translation3"};
-  const XMLElement* axes[6] = {};
+std::array<const XMLElement*, 6> OsimReader::findTransformAxes(const XMLElement& joint) const {
+  const XMLElement* st = child(joint, "SpatialTransform");
+  if (!st) fail(&joint, "a CustomJoint needs a <SpatialTransform>");
+  std::array<const XMLElement*, 6> axes{};
   for (const XMLElement* a = st->FirstChildElement("TransformAxis"); a; a = a->NextSiblingElement("TransformAxis")) {
     const char* name = a->Attribute("name");
     int k = -1;
     for (int i = 0; i < 6; ++i)
       if (name && std::strcmp(name, kAxisNames[i]) == 0) k = i;
     if (k < 0) fail(a, "expected TransformAxis named rotation1, rotation2, rotation3, translation1, translation2 or translation3");
-    if (axes[k]) fail(a, std::string("a second TransformAxis ") + kAxisNames[k]);
-    axes[k] = a;
+    if (axes[static_cast<size_t>(k)]) fail(a, std::string("a second TransformAxis ") + kAxisNames[k]);
+    axes[static_cast<size_t>(k)] = a;
   }
   for (int i = 0; i < 6; ++i)
-    if (!axes[i]) fail(st, std::string("missing TransformAxis ") + kAxisNames[i]);
+    if (!axes[static_cast<size_t>(i)]) fail(st, std::string("missing TransformAxis ") + kAxisNames[i]);
+  return axes;
+}
 
-  // Each axis's function (3.x: inside <function>; 4.x: the axis's child named "function"),
-  // checked to be one the reader supports before anything else is said about the axis.
-  const XMLElement* functions[6] = {};
-  for (int i = 0; i < 6; ++i) {
-    const XMLElement& a = *axes[i];
-    if (const XMLElement* wrapper = child(a, "function")) functions[i] = wrapper->FirstChildElement();
-    if (!functions[i])
-      for (const XMLElement* c = a.FirstChildElement(); c && !functions[i]; c = c->NextSiblingElement())
-        if (std::strcmp(c->Name(), "coordinates") != 0 && std::strcmp(c->Name(), "axis") != 0) functions[i] = c;
-    if (functions[i]) readFunction(a, *functions[i]);
+const XMLElement* OsimReader::findAxisFunction(const XMLElement& axis) const {
+  const XMLElement* function = nullptr;
+  if (const XMLElement* wrapper = child(axis, "function")) function = wrapper->FirstChildElement();
+  if (!function)
+    for (const XMLElement* c = axis.FirstChildElement(); c && !function; c = c->NextSiblingElement())
+      if (std::strcmp(c->Name(), "coordinates") != 0 && std::strcmp(c->Name(), "axis") != 0) function = c;
+  if (function) readFunction(axis, *function);  // refuses an unsupported type before anything else is said
+  return function;
+}
+
+AxisFunction OsimReader::readAxisFunction(const XMLElement& axis, const XMLElement* function,
+                                          const std::string& coordinate) const {
+  AxisFunction f;
+  if (!function) {
+    if (!coordinate.empty()) fail(&axis, "names coordinate '" + coordinate + "' but has no function");
+    return f;
   }
+  const ParsedFunction parsed = readFunction(axis, *function);
+  f.slope = parsed.slope;
+  f.intercept = parsed.intercept;
+  if (parsed.linear && coordinate.empty())
+    fail(function, "in " + describeElement(axis) + ": a LinearFunction needs a coordinate, the axis names none");
+  if (!parsed.linear && !coordinate.empty())
+    fail(function, "in " + describeElement(axis) + ": names coordinate '" + coordinate +
+                       "' but its function is a Constant (the coordinate would move nothing)");
+  if (parsed.linear && f.slope == 0.0)
+    fail(function, "in " + describeElement(axis) + ": slope 0 (coordinate '" + coordinate + "' would move nothing)");
+  return f;
+}
+
+void OsimReader::readCustomJoint(const OsimJoint& j, const std::vector<std::pair<std::string, const XMLElement*>>& coordinates,
+                                 SkeletonBody& out, SkeletonDescription& d) const {
+  const XMLElement& e = *j.element;
+  out.joint_kind = JointKind::kSpatial;
+  const std::array<const XMLElement*, 6> axes = findTransformAxes(e);
+  std::array<const XMLElement*, 6> functions{};  // 3.x: inside <function>; 4.x: the axis's child
+  for (size_t i = 0; i < 6; ++i) functions[i] = findAxisFunction(*axes[i]);
 
   // Which axis each coordinate drives (at most one).
   std::map<std::string, int> driven_axis;
   std::vector<std::string> axis_coordinate(6);
   for (int i = 0; i < 6; ++i) {
-    const XMLElement& a = *axes[i];
+    const XMLElement& a = *axes[static_cast<size_t>(i)];
     const std::vector<std::string> names = splitWords(text(a, "coordinates"));
     if (names.size() > 1)
       fail(&a, "is driven by " + std::to_string(names.size()) + " coordinates; at most one per axis is supported");
@@ -470,7 +509,7 @@ void OsimReader::readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescri
     const auto [it, inserted] = driven_axis.emplace(names[0], i);
     if (!inserted)
       fail(&a, "coordinate '" + names[0] + "' also drives TransformAxis " + kAxisNames[it->second] + " (line " +
-                   std::to_string(axes[it->second]->GetLineNum()) +
+                   std::to_string(axes[static_cast<size_t>(it->second)]->GetLineNum()) +
                    "): a coordinate coupled into two transform axes is not supported");
     axis_coordinate[static_cast<std::size_t>(i)] = names[0];
   }
@@ -478,51 +517,31 @@ void OsimReader::readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescri
     for (int a = group; a < group + 3; ++a)
       for (int b = a + 1; b < group + 3; ++b)
         if (out.axes[static_cast<std::size_t>(a)].cross(out.axes[static_cast<std::size_t>(b)]).norm() < 1e-5)
-          fail(axes[b], std::string("axis is collinear with ") + kAxisNames[a] + "'s; the axes of a CustomJoint must be independent");
+          fail(axes[static_cast<size_t>(b)],
+               std::string("axis is collinear with ") + kAxisNames[a] + "'s; the axes of a CustomJoint must be independent");
 
   // Coordinates in the joint's order, then any an axis names without declaring.
   std::vector<std::pair<std::string, const XMLElement*>> ordered = coordinates;
-  for (int i = 0; i < 6; ++i) {
-    const std::string& name = axis_coordinate[static_cast<std::size_t>(i)];
-    if (name.empty()) continue;
-    if (std::none_of(ordered.begin(), ordered.end(), [&](const auto& c) { return c.first == name; }))
+  for (const std::string& name : axis_coordinate)
+    if (!name.empty() && std::none_of(ordered.begin(), ordered.end(), [&](const auto& c) { return c.first == name; }))
       ordered.emplace_back(name, nullptr);
-  }
   for (const auto& [name, element] : ordered) {
     const auto it = driven_axis.find(name);
     if (it == driven_axis.end())
       fail(element, "coordinate '" + name + "' drives no TransformAxis of " + describeElement(e) + " (it would move nothing)");
-    const int index = addCoordinate(element, name, it->second < 3 ? CoordinateMotion::kRotational : CoordinateMotion::kTranslational,
-                                    j.name, d);
-    out.coordinates.push_back(index);
+    out.coordinates.push_back(addCoordinate(
+        element, name, it->second < 3 ? CoordinateMotion::kRotational : CoordinateMotion::kTranslational, j.name, d));
   }
 
-  for (int i = 0; i < 6; ++i) {
-    const XMLElement& a = *axes[i];
-    const XMLElement* function = functions[i];
-    const std::string& coordinate = axis_coordinate[static_cast<std::size_t>(i)];
-    AxisFunction f;
-    if (!function) {
-      if (!coordinate.empty()) fail(&a, "names coordinate '" + coordinate + "' but has no function");
-    } else {
-      const ParsedFunction parsed = readFunction(a, *function);
-      const bool linear = parsed.linear;
-      f.slope = parsed.slope;
-      f.intercept = parsed.intercept;
-      if (linear && coordinate.empty())
-        fail(function, "in " + describeElement(a) + ": a LinearFunction needs a coordinate, the axis names none");
-      if (!linear && !coordinate.empty())
-        fail(function, "in " + describeElement(a) + ": names coordinate '" + coordinate +
-                           "' but its function is a Constant (the coordinate would move nothing)");
-      if (linear && f.slope == 0.0)
-        fail(function, "in " + describeElement(a) + ": slope 0 (coordinate '" + coordinate + "' would move nothing)");
-    }
+  for (size_t i = 0; i < 6; ++i) {
+    const std::string& coordinate = axis_coordinate[i];
+    AxisFunction f = readAxisFunction(*axes[i], functions[i], coordinate);
     f.coordinate = -1;
     if (!coordinate.empty())
       for (int index : out.coordinates)
         if (d.coordinates[static_cast<std::size_t>(index)].name == coordinate) f.coordinate = index;
     if (i >= 3) f.intercept *= getLengthToMm();  // translation values: model units → mm; slopes stay (mm per mm)
-    out.functions[static_cast<std::size_t>(i)] = f;
+    out.functions[i] = f;
   }
 }
 
