@@ -20,6 +20,8 @@ import tempfile
 
 import numpy as np
 
+from readme_section import replace_readme_section
+
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
 MUSCLES = ["glmax_r", "iliacus_r", "psoas_r"]
@@ -103,14 +105,7 @@ def main():
     print(text)
     if args.no_write:
         return
-    readme = os.path.join(ROOT, "README.md")
-    with open(readme) as f:
-        content = f.read()
-    begin = content.index("\n", content.index("<!-- BEGIN moment arms")) + 1
-    end = content.index("<!-- END moment arms -->")
-    with open(readme + ".tmp", "w") as f:
-        f.write(content[:begin] + text + "\n" + content[end:])
-    os.replace(readme + ".tmp", readme)
+    replace_readme_section("moment arms", text)
     print("wrote the moment arms table of README.md")
 
 
