@@ -29,11 +29,12 @@ std::string listSubcomponentNames(const std::vector<Component*>& items) {
 void applySpec(Component& component, const ComponentSpec& spec) {
   for (const PropertySpec& p : spec.properties) {
     AbstractProperty* property = component.findProperty(p.name);
-    if (property == nullptr && component.findSubcomponent(p.name) != nullptr && p.text.empty()) continue;  // <fibres/>
-    if (property == nullptr && component.findSubcomponent(p.name) != nullptr)
+    if (const Component* sub = property ? nullptr : component.findSubcomponent(p.name)) {
+      if (p.text.empty()) continue;  // <fibres/>: the subcomponent's defaults
       throwAt(p.location, "'" + p.name + "' is a subcomponent: give its properties inside, as <" + p.name +
                               "><PROPERTY>value</PROPERTY></" + p.name + "> (its properties: " +
-                              listNames(component.findSubcomponent(p.name)->getProperties()) + ")");
+                              listNames(sub->getProperties()) + ")");
+    }
     if (property == nullptr)
       throwAt(p.location, "unknown property '" + p.name + "' (" + spec.class_name +
                               " has properties: " + listNames(component.getProperties()) +
