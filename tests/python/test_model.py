@@ -141,19 +141,20 @@ def test_ctrl_c_stops_a_run_between_frames(flexion):
 
 
 def test_the_example_draws_its_picture(flexion, tmp_path):
-    """examples/hip_flexion.py's drawing, on this run; with a moment_arm_<coordinate>_mm output
-    it plots that instead of the derivative."""
+    """examples/hip_flexion.py's drawing, on this run: without moment-arm outputs it plots −∂l/∂q
+    of the run's lengths, with them the outputs."""
     spec = importlib.util.spec_from_file_location("hip_flexion", SOURCE / "examples/hip_flexion.py")
     example = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(example)
     table = flexion.run()
     example.draw(flexion, table, tmp_path / "derivative.png")
-    arm, how = example.moment_arm_mm(table, "iliacus_r", "hip_flexion_r", "iliacus_r.fibre_length_mean_mm")
+    output = "iliacus_r.moment_arm_hip_flexion_r_mm"
+    arm, how = example.moment_arm_mm(table, output, "iliacus_r.fibre_length_mean_mm", "hip_flexion_r")
     assert how == example.DERIVATIVE and arm.shape == (9,) and np.isfinite(arm).all()
     assert arm[0] > 0  # the iliacus flexes the hip: it shortens as the hip flexes
-    table["iliacus_r.moment_arm_hip_flexion_r_mm"] = np.full(9, 30.0)
-    arm, how = example.moment_arm_mm(table, "iliacus_r", "hip_flexion_r", "iliacus_r.fibre_length_mean_mm")
-    assert how == "output moment_arm_hip_flexion_r_mm" and np.all(arm == 30.0)
+    table[output] = np.full(9, 30.0)
+    arm, how = example.moment_arm_mm(table, output, "iliacus_r.fibre_length_mean_mm", "hip_flexion_r")
+    assert how == "output" and np.all(arm == 30.0)
     example.draw(flexion, table, tmp_path / "output.png")
     for name in ("derivative.png", "output.png"):
         assert (tmp_path / name).read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
