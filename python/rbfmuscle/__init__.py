@@ -7,7 +7,7 @@ rbfmuscle.Error (a RuntimeError) with the command line's message; frames and fit
 the GIL.
 
     import rbfmuscle
-    model = rbfmuscle.Model("models/hip/hip_flexion.xml", overrides={"iliacus_r.fibres": 50})
+    model = rbfmuscle.Model("models/hip/hip_flexion.xml", overrides={"iliacus_r/fibres.count": 50})
     table = model.run()                    # dict column -> 1-D array, as outputs.csv
     model.step({"hip_flexion_r": 0.5}, geometry=True)
     vertices, triangles = model.surface("iliacus_r")
@@ -33,7 +33,7 @@ def _property_text(value):
 
 
 def _assignments(overrides):
-    """COMPONENT.PROPERTY=VALUE strings from a dict or a sequence of such strings."""
+    """COMPONENT[/SUBCOMPONENT].PROPERTY=VALUE strings from a dict or a sequence of such strings."""
     if overrides is None:
         return []
     if isinstance(overrides, str):
@@ -46,7 +46,8 @@ def _assignments(overrides):
 class Model(_Model):
     """A model file loaded as `rbfmuscle run` loads it, its components initialised.
 
-    overrides: {"COMPONENT.PROPERTY": value} or ["COMPONENT.PROPERTY=VALUE", ...] (--set);
+    overrides: {"COMPONENT.PROPERTY": value} or ["COMPONENT.PROPERTY=VALUE", ...] (--set; a
+    subcomponent's property is COMPONENT/SUBCOMPONENT.PROPERTY);
     motion: a motion file that replaces the model's (--motion, relative to the working
     directory); plugins: plugins loaded before the model's own (-L).
     """

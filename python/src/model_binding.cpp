@@ -250,8 +250,8 @@ py::array_t<double> motionCoordinates(const Motion& motion, std::size_t coordina
 void bindModel(py::module_& m) {
   py::class_<PyModel>(m, "Model", R"(A model file loaded as `rbfmuscle run` loads it, its components initialised.
 
-Model(path, overrides=[], motion="", plugins=[]): overrides are "COMPONENT.PROPERTY=VALUE"
-(--set), motion a motion file replacing the model's (--motion), plugins loaded before the
+Model(path, overrides=[], motion="", plugins=[]): overrides are
+"COMPONENT[/SUBCOMPONENT].PROPERTY=VALUE" (--set), motion a motion file replacing the model's (--motion), plugins loaded before the
 model's own (-L). Errors raise rbfmuscle.Error with the command line's message.)")
       .def(py::init<const std::string&, const std::vector<std::string>&, const std::string&,
                     const std::vector<std::string>&>(),

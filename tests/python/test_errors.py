@@ -28,8 +28,9 @@ def test_a_missing_model_file_raises_the_hosts_message(tmp_path):
     assert python_error(rbfmuscle.Error, lambda: rbfmuscle.Model(missing)) == expected
 
 
-@pytest.mark.parametrize("assignment", ["iliacus_r.fibres=-3", "iliacus_r.no_such_property=1",
-                                        "nobody.fibres=3", "iliacus_r.fibres=many"])
+@pytest.mark.parametrize("assignment", ["iliacus_r/fibres.count=-3", "iliacus_r.no_such_property=1",
+                                        "nobody.centres=3", "iliacus_r/fibres.count=many",
+                                        "iliacus_r.fibres=3"])
 def test_a_bad_override_raises_the_hosts_message(assignment, tmp_path):
     expected = host_error("run", FLEXION, "-o", tmp_path / "out", "--set", assignment)
     actual = python_error(rbfmuscle.Error, lambda: rbfmuscle.Model(FLEXION, overrides=[assignment]))
