@@ -5,7 +5,7 @@
 #include "framework/plugin_loader.h"
 #include "framework/registry.h"
 #include "framework/simulation.h"
-#include "host/model_overrides.h"
+#include "host/model_loading.h"
 #include "io/file_checks.h"
 
 #include <unistd.h>
@@ -118,15 +118,6 @@ CommandLine parseCommandLine(const std::vector<std::string>& args, bool with_run
   return line;
 }
 
-void loadPlugins(const std::vector<std::string>& specs, const std::string& model_directory,
-                 PluginLoader& loader, Registry& registry) {
-  std::vector<std::string> dirs;
-  if (!model_directory.empty()) dirs.push_back(model_directory);
-  const std::string host_lib = hostLibraryDirectory();
-  if (!host_lib.empty()) dirs.push_back(host_lib);
-  for (const auto& spec : specs) loader.load(spec, dirs, registry);
-}
-
 }  // namespace
 
 std::string usageText() {
@@ -156,9 +147,8 @@ int runCommand(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
   Registry registry;
   PluginLoader loader;
-  ModelDocument document = readModelDocument(line.positional[0]);
-  for (const std::string& assignment : line.overrides) applyPropertyOverride(document, assignment);
-  if (!line.motion.empty()) overrideMotion(document, line.motion);
+  const ModelSource source{line.positional[0], line.plugins, line.overrides, line.motion};
+  ModelDocument document = readModelSource(source);
   // OUTDIR is replaced as a whole when the run succeeds: it may not hold an input.
   const std::pair<const char*, std::string> inputs[] = {{"model file", document.path},
                                                          {"model directory", document.directory},
@@ -168,15 +158,7 @@ int runCommand(const std::vector<std::string>& args) {
     if (io::isSameOrInside(path, line.output))
       throw UsageError("run: -o " + line.output + " holds the " + what + " " + path +
                        "; OUTDIR is replaced as a whole, so it may not hold an input (choose another OUTDIR)");
-  loadPlugins(line.plugins, document.directory, loader, registry);
-  for (const FileReference& plugin : document.plugins) {
-    try {
-      loadPlugins({plugin.path}, document.directory, loader, registry);
-    } catch (const FrameworkError& error) {
-      throwAt(plugin.location, error.what());
-    }
-  }
-  Model model = Model::build(std::move(document), registry);
+  Model model = buildModel(std::move(document), line.plugins, hostLibraryDirectory(), loader, registry);
   RunOptions options;
   options.output_directory = line.output;
   options.write_frame_meshes = line.frames_mesh;
@@ -202,7 +184,7 @@ int infoCommand(const std::vector<std::string>& args) {
   if (line.positional.size() > 1) throw UsageError("info takes at most one CLASS");
   Registry registry;
   PluginLoader loader;
-  loadPlugins(line.plugins, "", loader, registry);
+  loadPlugins(line.plugins, "", hostLibraryDirectory(), loader, registry);
   if (line.positional.size() == 1) {
     const ComponentType* type = registry.findType(line.positional[0]);
     if (type == nullptr)

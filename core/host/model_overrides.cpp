@@ -1,6 +1,6 @@
 #include "host/model_overrides.h"
 
-#include "host_commands.h"
+#include "host/usage_error.h"
 
 #include <algorithm>
 #include <filesystem>
