@@ -1,9 +1,10 @@
 // SPDX-License-Identifier: Apache-2.0
 // One muscle's frame through the pipeline (core/pipeline) on the hip data: the gluteus maximus
 // (1000 kernels) and the iliacus (2000) over flexion, with the subject's femur, ilium and
-// sacrum as contact bones; and how the frame's cost grows with quadrature points. A frame is a
+// sacrum as contact bones; and how the frame's cost grows with quadrature points and kernels. A frame is a
 // function of its pose, so the benchmark cycles through the angles 0…80°.
 #include "collision/bone_distance_grid.h"
+#include "fit/fit_pipeline.h"
 #include "fit/rbf_file.h"
 #include "geometry/mesh_io.h"
 #include "model/attachment_areas.h"
@@ -40,9 +41,11 @@ Eigen::Matrix3Xd readArea(const std::string& clouds, const Eigen::Vector3d& offs
   return all;
 }
 
-Muscle makeMuscle(const std::string& mesh, const std::string& origin, const std::string& insertion, int quadrature) {
+/// The muscle's pipeline from `surface` (its stored fit unless given).
+Muscle makeMuscle(const std::string& mesh, const std::string& origin, const std::string& insertion, int quadrature,
+                  const RbfSurface* fitted = nullptr) {
   static std::map<std::string, std::shared_ptr<BoneDistanceGrid>> grids;  // shared, as in a run
-  const RbfSurface surface = readRbfFile(kHip + "surfaces/" + mesh + ".rbf");
+  const RbfSurface surface = fitted ? *fitted : readRbfFile(kHip + "surfaces/" + mesh + ".rbf");
   MuscleDefinition d;
   d.rest_field = surface.field;
   d.rest_mesh_M = loadMesh(kHip + "meshes/" + mesh + ".ply");
@@ -109,6 +112,19 @@ void BM_IliacusFrameByQuadrature(benchmark::State& state) {
   runFrames(state, m);
 }
 BENCHMARK(BM_IliacusFrameByQuadrature)->Arg(1000)->Arg(2000)->Arg(4000)->Arg(8000)->Unit(benchmark::kMillisecond);
+
+/// Cost against kernels: the gluteus fitted with 250 … 2000 kernels (the fit, done once per
+/// count, is not timed).
+void BM_GluteusFrameByCentres(benchmark::State& state) {
+  FitSettings settings;
+  settings.max_centres = static_cast<int>(state.range(0));
+  const MeshFit fit = fitMeshFile(kHip + "meshes/gluteus_maximus_r.ply", settings, false);
+  Muscle m = makeMuscle("gluteus_maximus_r", "LC_SET_Ori_1_R_M081_Glut_Max, LC_SET_Ori_2_R_M081_Glut_Max",
+                        "LC_SET_Ins_1_R_M081_Glut_Max, LC_SET_Ins_2_R_M081_Glut_Max", 2000, &fit.surface);
+  runFrames(state, m);
+  state.counters["jaccard"] = fit.metrics.jaccard;
+}
+BENCHMARK(BM_GluteusFrameByCentres)->Arg(250)->Arg(500)->Arg(1000)->Arg(2000)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace rbfmuscle

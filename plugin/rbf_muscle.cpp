@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "rbf_muscle.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <stdexcept>
 
 #include "collision/bone_distance_grid.h"
 #include "fibres/line_of_action.h"
@@ -11,6 +13,8 @@
 #include "geometry/mesh_distance.h"
 #include "geometry/solid_mesh.h"
 #include "model/attachment_areas.h"
+#include "model/moment_arms.h"
+#include "model/osim_muscle_path.h"
 #include "model/skeleton.h"
 #include "pipeline/muscle_pipeline.h"
 
@@ -34,33 +38,26 @@ TriangleMesh loadMesh_B(const BodyMesh& mesh) {
   return part;
 }
 
-/// All points of the areas a spec names, in M (3×K).
-Eigen::Matrix3Xd readArea_M(const Property<std::string>& spec, const InitContext& context, const Eigen::Vector3d& offset) {
-  std::vector<Eigen::Vector3d> points;
-  for (const AttachmentArea& area : parseAttachmentAreaSpec(spec.get(), context.getModelDirectory()))
-    for (Eigen::Index j = 0; j < area.points_mm.cols(); ++j) points.push_back(area.points_mm.col(j) - offset);
-  Eigen::Matrix3Xd m(3, static_cast<Eigen::Index>(points.size()));
-  for (size_t j = 0; j < points.size(); ++j) m.col(static_cast<Eigen::Index>(j)) = points[j];
-  return m;
+/// The columns of the areas, one matrix (3×K).
+Eigen::Matrix3Xd joinAreas(const std::vector<AttachmentArea>& areas) {
+  Eigen::Index count = 0;
+  for (const AttachmentArea& area : areas) count += area.points_mm.cols();
+  Eigen::Matrix3Xd points(3, count);
+  Eigen::Index at = 0;
+  for (const AttachmentArea& area : areas) {
+    points.middleCols(at, area.points_mm.cols()) = area.points_mm;
+    at += area.points_mm.cols();
+  }
+  return points;
 }
 
-/// Parses "x y z; x y z; …" (mm). @throws FrameworkError naming the property.
-Eigen::Matrix3Xd parsePoints(const Property<std::string>& property) {
-  std::vector<Eigen::Vector3d> points;
-  std::stringstream groups(property.get());
-  std::string group;
-  while (std::getline(groups, group, ';')) {
-    if (group.find_first_not_of(" \t\r\n") == std::string::npos) continue;
-    std::istringstream fields(group);
-    Eigen::Vector3d p;
-    std::string extra;
-    if (!(fields >> p.x() >> p.y() >> p.z()) || (fields >> extra) || !p.allFinite())
-      throw FrameworkError(property.getName() + ": expected 'x y z; x y z; …' (mm), got '" + group + "'");
-    points.push_back(p);
-  }
-  Eigen::Matrix3Xd m(3, static_cast<Eigen::Index>(points.size()));
-  for (size_t j = 0; j < points.size(); ++j) m.col(static_cast<Eigen::Index>(j)) = points[j];
-  return m;
+/// Each point of an OpenSim muscle path at rest, in M (3×K).
+Eigen::Matrix3Xd placeAtRest_M(const MusclePath& path, const Skeleton& skeleton, const Eigen::Vector3d& offset) {
+  Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(path.points.size()));
+  for (size_t i = 0; i < path.points.size(); ++i)
+    points.col(static_cast<Eigen::Index>(i)) =
+        skeleton.getBodyTransform(path.points[i].body) * path.points[i].location_B_mm - offset;
+  return points;
 }
 
 }  // namespace
@@ -92,8 +89,8 @@ void RBFMuscle::initialize(const InitContext& context) {
   muscle.rest_field = surface.field;
   muscle.rest_mesh_M = loadSolidMesh(context.resolvePath(mesh_file.get()));
   muscle.rest_mesh_M.vertices_mm.colwise() -= frame_offset_mm_;
-  muscle.origin_area_M = readArea_M(origin_area, context, frame_offset_mm_);
-  muscle.insertion_area_M = readArea_M(insertion_area, context, frame_offset_mm_);
+  muscle.origin_area_M = readArea_M(origin_area, context, false);
+  muscle.insertion_area_M = readArea_M(insertion_area, context, true);
   bone_bodies_ = {origin_body.getBodyIndex(), insertion_body.getBodyIndex()};
   X_GB_rest_ = {skeleton.getBodyTransform(bone_bodies_[0]), skeleton.getBodyTransform(bone_bodies_[1])};
   muscle.attachments = makeFreeAttachments(surface.field.getNumCentres(), 2);
@@ -125,26 +122,19 @@ void RBFMuscle::initialize(const InitContext& context) {
       }
 
   PipelineSettings settings;
-  settings.quadrature_points = quadrature_points.get();
-  settings.descent.max_iterations = descent_iterations.get();
-  settings.fibres = fibres.get();
-  settings.fibre_segments = fibre_segments.get();
-  settings.volume.max_correction = volume_max_correction.get();
+  settings.quadrature_points = volume_settings.quadrature_points.get();
+  settings.descent.max_iterations = descent_settings.iterations.get();
+  settings.fibres = fibre_settings.count.get();
+  settings.fibre_segments = fibre_settings.segments.get();
+  settings.volume.max_correction = volume_settings.max_correction.get();
   try {
     pipeline_ = std::make_unique<MusclePipeline>(muscle, settings);
   } catch (const std::invalid_argument& e) {
     throw FrameworkError(e.what());
   }
 
-  Eigen::Matrix3Xd path_M = parsePoints(line_of_action_mm);
-  if (path_M.cols() == 1) throw FrameworkError("line_of_action_mm: expected ≥ 2 points, got 1");
-  if (path_M.cols() == 0) {  // the straight line between the areas' means
-    path_M.resize(3, 2);
-    path_M << muscle.origin_area_M.rowwise().mean(), muscle.insertion_area_M.rowwise().mean();
-  } else {
-    path_M.colwise() -= frame_offset_mm_;
-  }
-  line_of_action_ = std::make_unique<ViaPointPath>(makeViaPointPath(path_M, 0, 1, {}));
+  makeLineOfAction(context, muscle.origin_area_M, muscle.insertion_area_M);
+  makeMomentArmOutputs(skeleton);
   bone_motion_M_.assign(2, Eigen::Isometry3d::Identity());
   declareInvariants(settings);
 }
@@ -165,24 +155,122 @@ void RBFMuscle::declareInvariants(const PipelineSettings& settings) {
   declareInvariant({"surface_bone_depth_max_mm", -infinity, settings.surface.tolerance, depth.str(), true});
 }
 
+Eigen::Matrix3Xd RBFMuscle::readArea_M(const Property<std::string>& spec, const InitContext& context, bool last) const {
+  Eigen::Matrix3Xd points;
+  if (const std::optional<OsimMuscleReference> reference = parseOsimMuscleReference(spec.get())) {
+    points.resize(3, static_cast<Eigen::Index>(reference->muscles.size()));
+    for (size_t i = 0; i < reference->muscles.size(); ++i) {
+      const MusclePath path = readOsimMusclePath(context.resolvePath(reference->file), reference->muscles[i], context.getSkeleton());
+      const MusclePathPoint& end = last ? path.points.back() : path.points.front();
+      points.col(static_cast<Eigen::Index>(i)) = context.getSkeleton().getBodyTransform(end.body) * end.location_B_mm;
+    }
+  } else {
+    points = joinAreas(parseAttachmentAreaSpec(spec.get(), context.getModelDirectory()));
+  }
+  return points.colwise() - frame_offset_mm_;
+}
+
+void RBFMuscle::makeLineOfAction(const InitContext& context, const Eigen::Matrix3Xd& origin_area_M,
+                                 const Eigen::Matrix3Xd& insertion_area_M) {
+  const Skeleton& skeleton = context.getSkeleton();
+  ViaPointPath path;
+  path_bodies_ = bone_bodies_;
+  try {
+    if (line_of_action.get().find_first_not_of(" \t\r\n") == std::string::npos) {  // the areas' means
+      Eigen::Matrix3Xd ends(3, 2);
+      ends << origin_area_M.rowwise().mean(), insertion_area_M.rowwise().mean();
+      path = makeViaPointPath(ends, 0, 1, {});
+    } else if (const std::optional<OsimMuscleReference> reference = parseOsimMuscleReference(line_of_action.get())) {
+      if (reference->muscles.size() != 1)
+        throw FrameworkError("names " + std::to_string(reference->muscles.size()) + " muscles; expected one");
+      const MusclePath muscle = readOsimMusclePath(context.resolvePath(reference->file), reference->muscles[0], skeleton);
+      for (const std::string& note : muscle.notes) std::fprintf(stderr, "%s: line_of_action: %s\n", getName().c_str(), note.c_str());
+      path.points_mm = placeAtRest_M(muscle, skeleton, frame_offset_mm_);
+      path_bodies_.clear();
+      for (const MusclePathPoint& point : muscle.points) {
+        const auto known = std::find(path_bodies_.begin(), path_bodies_.end(), point.body);
+        path.bones.push_back(static_cast<int>(known - path_bodies_.begin()));
+        if (known == path_bodies_.end()) path_bodies_.push_back(point.body);
+        path.conditions.push_back(PathPointCondition{point.coordinate, point.active_min, point.active_max});
+      }
+    } else {
+      const Eigen::Matrix3Xd points = joinAreas(parseAttachmentAreaSpec(line_of_action.get(), context.getModelDirectory()));
+      if (points.cols() < 2) throw FrameworkError("expected ≥ 2 points, got " + std::to_string(points.cols()));
+      path = makeViaPointPath(points.colwise() - frame_offset_mm_, 0, 1, {});
+    }
+  } catch (const std::exception& e) {
+    throw FrameworkError("line_of_action: " + std::string(e.what()));
+  }
+  line_of_action_ = std::make_unique<ViaPointPath>(std::move(path));
+  X_GB_path_rest_.clear();
+  for (int body : path_bodies_) X_GB_path_rest_.push_back(skeleton.getBodyTransform(body));
+}
+
 void RBFMuscle::update(const FrameState& state) {
   bool moved = state.getFrameIndex() == 0 || state.wantsGeometry();
   for (int body : bone_bodies_) moved = moved || state.hasBodyMoved(body);
   for (int body : contact_bodies_) moved = moved || state.hasBodyMoved(body);
+  for (int body : path_bodies_) moved = moved || state.hasBodyMoved(body);
   if (!moved) return;  // nothing this muscle depends on moved: the last frame stands
-  const Eigen::Translation3d to_M(-frame_offset_mm_), from_M(frame_offset_mm_);
-  FrameInput input;
-  for (size_t b = 0; b < 2; ++b)
-    bone_motion_M_[b] = to_M * state.getBodyTransform(bone_bodies_[b]) * X_GB_rest_[b].inverse() * from_M;
-  X_MB_.resize(contact_bodies_.size());
-  for (size_t b = 0; b < contact_bodies_.size(); ++b) X_MB_[b] = to_M * state.getBodyTransform(contact_bodies_[b]);
-  input.bone_motion_M = bone_motion_M_;
-  input.X_MB = X_MB_;
-  input.want_surface = state.wantsGeometry();
-  pipeline_->run(input);
+  if (moment_arms_) {
+    // Every frame depends on its poses only, so probing poses either side leaves no trace.
+    moment_arms_->update(state.getCoordinates(), [this](const Skeleton& posed, const Eigen::VectorXd& q) {
+      runFrame([&](int body) { return posed.getBodyTransform(body); }, q, false);
+      Eigen::VectorXd lengths(pipeline_->getFibreLengths().size() + 1);
+      lengths << pipeline_->getFibreLengths(), line_of_action_length_mm_;
+      return lengths;
+    });
+    const Eigen::Index fibre_count = pipeline_->getFibreLengths().size();
+    for (size_t k = 0; k < moment_arms_->getCoordinates().size(); ++k) {
+      const Eigen::VectorXd& arms = moment_arms_->getArms(k);
+      fibre_moment_arms_mm_[k] = arms.head(fibre_count);
+      fibre_moment_arm_mean_mm_[k] = fibre_count ? arms.head(fibre_count).mean() : std::numeric_limits<double>::quiet_NaN();
+      line_of_action_moment_arm_mm_[k] = arms[fibre_count];
+    }
+  }
+  runFrame([&](int body) { return state.getBodyTransform(body); }, state.getCoordinates(), state.wantsGeometry());
   report_values_.clear();
   pipeline_->appendReports(report_values_);
-  line_of_action_length_mm_ = calcPathLength(*line_of_action_, bone_motion_M_);
+}
+
+void RBFMuscle::runFrame(const std::function<Eigen::Isometry3d(int)>& X_GB, const Eigen::VectorXd& q, bool want_surface) {
+  const Eigen::Translation3d to_M(-frame_offset_mm_), from_M(frame_offset_mm_);
+  FrameInput input;
+  for (size_t b = 0; b < 2; ++b) bone_motion_M_[b] = to_M * X_GB(bone_bodies_[b]) * X_GB_rest_[b].inverse() * from_M;
+  X_MB_.resize(contact_bodies_.size());
+  for (size_t b = 0; b < contact_bodies_.size(); ++b) X_MB_[b] = to_M * X_GB(contact_bodies_[b]);
+  input.bone_motion_M = bone_motion_M_;
+  input.X_MB = X_MB_;
+  input.want_surface = want_surface;
+  pipeline_->run(input);
+  path_motion_M_.resize(path_bodies_.size());
+  for (size_t b = 0; b < path_bodies_.size(); ++b)
+    path_motion_M_[b] = to_M * X_GB(path_bodies_[b]) * X_GB_path_rest_[b].inverse() * from_M;
+  line_of_action_length_mm_ = calcPathLength(*line_of_action_, path_motion_M_, q);
+}
+
+void RBFMuscle::makeMomentArmOutputs(const Skeleton& skeleton) {
+  const std::vector<int> coordinates = parseCoordinateList(moment_arms.get(), skeleton);
+  if (coordinates.empty()) return;
+  moment_arms_ = std::make_unique<MomentArms>(skeleton, coordinates);
+  const size_t n = coordinates.size();
+  fibre_moment_arm_mean_mm_.assign(n, std::numeric_limits<double>::quiet_NaN());
+  line_of_action_moment_arm_mm_.assign(n, std::numeric_limits<double>::quiet_NaN());
+  fibre_moment_arms_mm_.assign(n, Eigen::VectorXd::Constant(fibre_settings.count.get(), std::numeric_limits<double>::quiet_NaN()));
+  for (size_t k = 0; k < n; ++k) {
+    const std::string& name = skeleton.getCoordinateNames()[static_cast<size_t>(coordinates[k])];
+    const std::string per = skeleton.getCoordinates()[static_cast<size_t>(coordinates[k])].motion ==
+                                    CoordinateMotion::kRotational ? "mm per rad" : "mm per mm";
+    moment_arm_outputs_.push_back(std::make_unique<Output>(
+        this, "moment_arm_" + name + "_mm", "mm", "mean over fibres of the moment arm −∂l/∂q about " + name + " (" + per + ")",
+        [this, k] { return fibre_moment_arm_mean_mm_[k]; }));
+    moment_arm_outputs_.push_back(std::make_unique<Output>(
+        this, "line_of_action_moment_arm_" + name + "_mm", "mm", "moment arm of the line of action about " + name + " (" + per + ")",
+        [this, k] { return line_of_action_moment_arm_mm_[k]; }));
+    moment_arm_outputs_.push_back(std::make_unique<VectorOutput>(
+        this, "fibre_moment_arm_" + name + "_mm", "mm", "moment arm of each fibre about " + name + " (" + per + ")",
+        [this, k]() -> const Eigen::VectorXd& { return fibre_moment_arms_mm_[k]; }));
+  }
 }
 
 void RBFMuscle::appendFrameGeometry(std::vector<FrameGeometry>& geometry) const {

@@ -5,7 +5,8 @@
 /// tissue between its bones, kept out of the bones, with its volume and its fibres.
 ///
 /// XML `<RBFMuscle name="...">` with the properties below (lengths in mm in the ground frame
-/// at rest, the frame of the meshes), sockets `origin_body` and `insertion_body`, and outputs
+/// at rest, the frame of the meshes), the stage settings `<fibres>`, `<volume>` and `<descent>`
+/// (stage_settings.h), sockets `origin_body` and `insertion_body`, and outputs
 /// generated from the frame pipeline's stage reports (core/pipeline/muscle_pipeline.h; listed
 /// by `rbfmuscle info RBFMuscle`), with the invariants it promises on them every frame: volume
 /// within the volume step's tolerance, finite positive volume and fibre lengths, and a tracked
@@ -14,16 +15,20 @@
 /// MuscleDefinition, hands each frame's bone poses to the pipeline, and reads its reports.
 /// The muscle frame M is the ground frame shifted to the rest mesh's box centre.
 #include "framework/component.h"
+#include "stage_settings.h"
 
 #include <Eigen/Geometry>
 
+#include <functional>
 #include <memory>
 #include <vector>
 
 namespace rbfmuscle {
 
+class MomentArms;
 class MusclePipeline;
 struct PipelineSettings;
+class Skeleton;
 struct ViaPointPath;
 
 class RBFMuscle final : public Component {
@@ -35,31 +40,31 @@ class RBFMuscle final : public Component {
   Property<int> centres{this, "centres", 1000, "Gaussian kernels of a fit", PropertyRange{1, 100000}};
   Property<std::string> origin_area{this, "origin_area",
                                     "origin attachment area on the origin body: 'FILE: CLOUD, …' (landmark clouds "
-                                    "of a JSON file, relative to the model file) or 'x y z; …' (mm, ground at rest)"};
-  Property<std::string> insertion_area{this, "insertion_area", "insertion attachment area, as origin_area"};
+                                    "of a JSON file, relative to the model file), 'FILE.osim: MUSCLE, …' (their first "
+                                    "path points in the skeleton's OpenSim model) or 'x y z; …' (mm, ground at rest)"};
+  Property<std::string> insertion_area{this, "insertion_area",
+                                       "insertion attachment area, as origin_area (from an OpenSim model: the "
+                                       "muscles' last path points)"};
   Property<double> attachment_radius_mm{this, "attachment_radius_mm", 10.0,
                                         "kernels centred within this distance of an area point move rigidly with its "
                                         "bone (mm)",
                                         PropertyRange{0.1, 1000.0}};
-  Property<std::string> line_of_action_mm{this, "line_of_action_mm", std::string(),
-                                          "'x y z; …' via-point path for comparison, origin body first, insertion body "
-                                          "last (mm, ground at rest); '' = the straight line between the areas' means"};
-  Property<int> fibres{this, "fibres", 100, "fibres from the origin area to the insertion area (0 = none)",
-                       PropertyRange{0, 10000}};
-  Property<int> fibre_segments{this, "fibre_segments", 15, "segments per fibre", PropertyRange{1, 1000}};
+  Property<std::string> line_of_action{this, "line_of_action", std::string(),
+                                       "path to compare with: 'x y z; …' via points, origin body first, insertion "
+                                       "body last (mm, ground at rest), or 'FILE.osim: MUSCLE' (a muscle of the "
+                                       "OpenSim model the skeleton is read from); '' = the straight line between "
+                                       "the areas' means"};
   Property<bool> contacts{this, "contacts", true,
                           "keep the muscle out of every body with a mesh (its collision meshes, else its visual ones; "
                           "false: bones are ignored)"};
-  Property<int> quadrature_points{this, "quadrature_points", 2000,
-                                  "points of the volume measure over the muscle and a shell around it",
-                                  PropertyRange{64, 200000}};
-  Property<int> descent_iterations{this, "descent_iterations", 1,
-                                   "curvature-descent steps per frame (0 = the tissue map alone)",
-                                   PropertyRange{0, 1000}};
-  Property<double> volume_max_correction{this, "volume_max_correction", 0.5,
-                                         "largest |δ| of the volume correction: the free kernels' weights change by at "
-                                         "most this fraction of themselves each frame",
-                                         PropertyRange{1e-6, 10.0}};
+  Property<std::string> moment_arms{this, "moment_arms", std::string(),
+                                    "coordinates whose moment arms −∂l/∂q are reported (outputs moment_arm_<coordinate>_mm, "
+                                    "the mean over fibres, fibre_moment_arm_<coordinate>_mm, each fibre's, and "
+                                    "line_of_action_moment_arm_<coordinate>_mm): 'all' or names 'a, b'; '' = none. "
+                                    "Each coordinate re-runs the frame twice (central difference)"};
+  FibreSubcomponent fibre_settings{this};
+  VolumeSubcomponent volume_settings{this};
+  DescentSubcomponent descent_settings{this};
   BodySocket origin_body{this, "origin_body", "bone of the origin attachment"};
   BodySocket insertion_body{this, "insertion_body", "bone of the insertion attachment"};
 
@@ -73,6 +78,15 @@ class RBFMuscle final : public Component {
  private:
   /// The promises checked by the run loop after every frame (invariant.h).
   void declareInvariants(const PipelineSettings& settings);
+  /// Reads an area property (rest, M; 3×K). `last`: an OpenSim muscle's insertion, else its origin.
+  Eigen::Matrix3Xd readArea_M(const Property<std::string>& spec, const InitContext& context, bool last) const;
+  /// Runs the pipeline and the line of action at body poses X_GB(body) and coordinates q.
+  void runFrame(const std::function<Eigen::Isometry3d(int)>& X_GB, const Eigen::VectorXd& q, bool want_surface);
+  /// The moment-arm probe and its outputs for the coordinates `moment_arms` names.
+  void makeMomentArmOutputs(const Skeleton& skeleton);
+  /// Sets line_of_action_ and path_bodies_ from the property (default: the areas' means).
+  void makeLineOfAction(const InitContext& context, const Eigen::Matrix3Xd& origin_area_M,
+                        const Eigen::Matrix3Xd& insertion_area_M);
 
   std::vector<std::unique_ptr<Output>> report_outputs_;  ///< one per pipeline report field
   std::vector<double> report_values_;                    ///< the last frame's reports
@@ -84,12 +98,18 @@ class RBFMuscle final : public Component {
   VectorOutput fibre_lengths_output_;
 
   std::unique_ptr<MusclePipeline> pipeline_;
+  std::unique_ptr<MomentArms> moment_arms_;                   ///< null without moment_arms
+  std::vector<std::unique_ptr<AbstractOutput>> moment_arm_outputs_;
+  std::vector<double> fibre_moment_arm_mean_mm_, line_of_action_moment_arm_mm_;  ///< per probed coordinate
+  std::vector<Eigen::VectorXd> fibre_moment_arms_mm_;                           ///< per probed coordinate
   std::unique_ptr<ViaPointPath> line_of_action_;
   Eigen::Vector3d frame_offset_mm_ = Eigen::Vector3d::Zero();  ///< origin of M in ground
   std::vector<int> bone_bodies_;                               ///< origin, insertion
   std::vector<Eigen::Isometry3d> X_GB_rest_;                   ///< their poses at rest
+  std::vector<Eigen::Isometry3d> X_GB_path_rest_;              ///< path bodies' poses at rest
   std::vector<int> contact_bodies_;                            ///< skeleton body of each contact bone
-  std::vector<Eigen::Isometry3d> bone_motion_M_, X_MB_;        ///< per frame, reused
+  std::vector<int> path_bodies_;                               ///< skeleton body of each bone of the line of action
+  std::vector<Eigen::Isometry3d> bone_motion_M_, path_motion_M_, X_MB_;  ///< per frame, reused
   double attached_kernels_ = 0.0;
   double line_of_action_length_mm_ = 0.0;
   Eigen::VectorXd no_fibres_;

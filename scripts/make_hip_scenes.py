@@ -72,7 +72,7 @@ def main():
                 f"      <centres>{kernels}</centres>",
                 f"      <origin_area>{AREAS}: {', '.join(origin)}</origin_area>",
                 f"      <insertion_area>{AREAS}: {', '.join(insertion)}</insertion_area>",
-                f"      <line_of_action_mm>{path_text(paths[path])}</line_of_action_mm>",
+                f"      <line_of_action>{path_text(paths[path])}</line_of_action>",
                 "      <socket_origin_body>pelvis</socket_origin_body>",
                 "      <socket_insertion_body>femur_r</socket_insertion_body>",
                 "    </RBFMuscle>",

@@ -17,6 +17,8 @@ import statistics
 import subprocess
 import tempfile
 
+from readme_section import replace_readme_section
+
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
 STAGES = ["contacts", "prediction", "descent", "volume", "fibres"]
@@ -76,15 +78,7 @@ def main():
     print(text)
     if args.no_write:
         return
-    readme = os.path.join(ROOT, "README.md")
-    with open(readme) as f:
-        content = f.read()
-    begin = content.index("<!-- BEGIN measured")
-    begin = content.index("\n", begin) + 1
-    end = content.index("<!-- END measured -->")
-    with open(readme + ".tmp", "w") as f:
-        f.write(content[:begin] + text + "\n" + content[end:])
-    os.replace(readme + ".tmp", readme)
+    replace_readme_section("measured", text)
     print("wrote the Measured section of README.md")
 
 

@@ -8,7 +8,9 @@ build_dir=${1:-build}
 
 packages=(build-essential cmake ninja-build pkg-config
           libsimbody-dev libeigen3-dev libfcl-dev liburdfdom-dev libassimp-dev
-          libtinyxml2-dev zlib1g-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev python3-numpy python3-matplotlib python3-scipy)
+          libtinyxml2-dev zlib1g-dev nlohmann-json3-dev libgtest-dev libbenchmark-dev
+          python3-numpy python3-matplotlib python3-scipy
+          python3-dev pybind11-dev python3-pytest)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
@@ -26,6 +28,7 @@ fi
 
 generator=()
 [[ -f "$build_dir/CMakeCache.txt" ]] || generator=(-G Ninja)
-cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release
+# The Python module is built: its packages are installed above.
+cmake -S . -B "$build_dir" "${generator[@]}" -DCMAKE_BUILD_TYPE=Release -DRBFMUSCLE_BUILD_PYTHON=ON
 cmake --build "$build_dir" -j "$(nproc)"
 echo "setup: built into $build_dir"

@@ -29,6 +29,41 @@ LbfgsMinimiser::LbfgsMinimiser(const LbfgsSettings& settings) : settings_(settin
   if (!(s.armijo > 0.0 && s.armijo < 1.0)) throw std::invalid_argument("LbfgsSettings::armijo must lie in (0, 1)");
 }
 
+double LbfgsMinimiser::calcDirection(int& stored, int newest) {
+  direction_ = -g_;
+  for (int i = 0; i < stored; ++i) {
+    const int m = (newest - i + settings_.memory) % settings_.memory;
+    alpha_[static_cast<size_t>(m)] = rho_[static_cast<size_t>(m)] * s_[static_cast<size_t>(m)].dot(direction_);
+    direction_ -= alpha_[static_cast<size_t>(m)] * y_[static_cast<size_t>(m)];
+  }
+  if (stored > 0) {
+    const size_t m = static_cast<size_t>(newest);
+    direction_ *= s_[m].dot(y_[m]) / y_[m].squaredNorm();
+    for (int i = stored - 1; i >= 0; --i) {
+      const size_t k = static_cast<size_t>((newest - i + settings_.memory) % settings_.memory);
+      const double beta = rho_[k] * y_[k].dot(direction_);
+      direction_ += (alpha_[k] - beta) * s_[k];
+    }
+  }
+  if (stored > 0 && g_.dot(direction_) < 0.0) return 1.0;
+  direction_ = -g_;  // steepest descent, largest coordinate moved by initial_step
+  stored = 0;
+  return settings_.initial_step / g_.cwiseAbs().maxCoeff();
+}
+
+bool LbfgsMinimiser::searchLine(const Objective& objective, const Eigen::VectorXd& x, double cost, double step,
+                                double& trial_cost, LbfgsReport& report) {
+  const double slope = g_.dot(direction_);
+  for (int b = 0; b <= settings_.max_backtracks; ++b, step *= 0.5) {
+    x_trial_ = x + step * direction_;
+    trial_cost = objective(x_trial_, g_trial_);
+    ++report.evaluations;
+    if (std::isfinite(trial_cost) && g_trial_.allFinite() && trial_cost <= cost + settings_.armijo * step * slope)
+      return true;
+  }
+  return false;
+}
+
 LbfgsReport LbfgsMinimiser::run(const Objective& objective, Eigen::VectorXd& x) {
   LbfgsReport report;
   const Eigen::Index n = x.size();
@@ -54,41 +89,9 @@ LbfgsReport LbfgsMinimiser::run(const Objective& objective, Eigen::VectorXd& x) 
       report.stop = LbfgsStop::kGradientTolerance;
       break;
     }
-    // Two-loop recursion: direction = −H ∇E.
-    direction_ = -g_;
-    for (int i = 0; i < stored; ++i) {
-      const int m = (newest - i + settings_.memory) % settings_.memory;
-      alpha_[static_cast<size_t>(m)] = rho_[static_cast<size_t>(m)] * s_[static_cast<size_t>(m)].dot(direction_);
-      direction_ -= alpha_[static_cast<size_t>(m)] * y_[static_cast<size_t>(m)];
-    }
-    double step = 1.0;
-    if (stored > 0) {
-      const size_t m = static_cast<size_t>(newest);
-      direction_ *= s_[m].dot(y_[m]) / y_[m].squaredNorm();
-      for (int i = stored - 1; i >= 0; --i) {
-        const size_t k = static_cast<size_t>((newest - i + settings_.memory) % settings_.memory);
-        const double beta = rho_[k] * y_[k].dot(direction_);
-        direction_ += (alpha_[k] - beta) * s_[k];
-      }
-    }
-    double slope = g_.dot(direction_);
-    if (stored == 0 || !(slope < 0.0)) {  // steepest descent, largest coordinate moved by initial_step
-      direction_ = -g_;
-      step = settings_.initial_step / g_.cwiseAbs().maxCoeff();
-      slope = -g_.squaredNorm();
-      stored = 0;
-    }
-    bool accepted = false;
+    const double step = calcDirection(stored, newest);
     double trial_cost = cost;
-    for (int b = 0; b <= settings_.max_backtracks; ++b, step *= 0.5) {
-      x_trial_ = x + step * direction_;
-      trial_cost = objective(x_trial_, g_trial_);
-      ++report.evaluations;
-      if (std::isfinite(trial_cost) && g_trial_.allFinite() && trial_cost <= cost + settings_.armijo * step * slope) {
-        accepted = true;
-        break;
-      }
-    }
+    const bool accepted = searchLine(objective, x, cost, step, trial_cost, report);
     if (!accepted) {
       report.stop = LbfgsStop::kLineSearchFailed;
       break;

@@ -61,6 +61,15 @@ class LbfgsMinimiser {
   const LbfgsSettings& getSettings() const { return settings_; }
 
  private:
+  /// direction_ = −H ∇E by the two-loop recursion over the `stored` newest pairs (newest at
+  /// index `newest`); the initial step length (1, or initial_step over the largest gradient
+  /// coordinate when it falls back to steepest descent, which also forgets the pairs).
+  double calcDirection(int& stored, int newest);
+  /// Backtracks from `step` along direction_ until the Armijo condition holds; the accepted
+  /// point and gradient are in x_trial_ and g_trial_. @return whether a step was accepted.
+  bool searchLine(const Objective& objective, const Eigen::VectorXd& x, double cost, double step, double& trial_cost,
+                  LbfgsReport& report);
+
   LbfgsSettings settings_;
   Eigen::VectorXd g_, x_trial_, g_trial_, direction_;
   std::vector<Eigen::VectorXd> s_, y_;

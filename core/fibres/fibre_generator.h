@@ -9,11 +9,8 @@
 ///     (r = attachment_radius_mm, grown ×1.5 until there are ≥ N candidates, cap 8);
 ///     among them, only the nodes with f ≥ end_depth when there are ≥ N such nodes, else
 ///     the N deepest (why: the fibre ends move rigidly with their bones while the surface
-///     near the attachment deforms; on the gluteus at 30–80° hip flexion ends picked at
-///     the surface (f ≈ margin) fell up to ≈ 0.6 field units outside — they were 163 of
-///     the 164 points outside — and they may move at most end_max_move_mm off their attachment; with
-///     the 10 mm clamp of the fits, ends at depth 2 fell up to 1.2 outside, the N deepest
-///     at most 0.27, one fibre end of the gluteus in 21 of 81 frames);
+///     near the attachment deforms, so ends picked at the surface fall outside it, and they
+///     may move at most end_max_move_mm off their attachment; docs/design.md, Fibres);
 ///     N start points are chosen by farthest-point sampling (first: the candidate
 ///     nearest the first region point), so they spread evenly over the attachment area;
 ///     the same for the end points at the insertion;
@@ -50,9 +47,8 @@ namespace rbfmuscle {
 inline constexpr double kMaxFibrePoints = 1e6;
 
 /// Most point-pair evaluations of the spreading push allowed while generating the fibres
-/// (estimateSpreadingPairs): 1e10, a minute or two on this project's 2-core machine (the
-/// gluteus with 1000 fibres × 50 segments, 1e9 pairs, took 13 s more CPU than with the
-/// scenes' 100 × 15, the paths and three frames of tracking included). The push
+/// (estimateSpreadingPairs): 1e10, a minute or two on a 2-core machine (1e9 pairs take
+/// about 13 s of CPU). The push
 /// compares each interior point with the same point of every other fibre in every round, so
 /// the cost grows as rounds·N²·(S−1): 100 × 15 takes 3e6, 10 000 × 1000 would take 2e12
 /// (hours) and is refused up front instead.

@@ -2,17 +2,13 @@
 /// @file
 /// Moving a point back inside a muscle field, and fibre lengths.
 ///
-/// Why a monotone ascent: the plain Newton iteration on f = 2·margin used before kept
-/// every step, also one that lowered f. Its step (2·margin − f) ∇f/‖∇f‖² grows as ∇f → 0
-/// and is cut to max_step_mm, so
-///  - near a local maximum of f outside the muscle it overshoots back and forth: on the
-///    gluteus at 80° hip flexion one interior point started at f = −0.74 with
-///    ‖∇f‖ ≈ 0.05–0.1 and alternated between f = −0.60 and −0.58 for all 30 steps;
+/// Why a monotone ascent: a plain Newton iteration on f = 2·margin keeps every step, also
+/// one that lowers f. Its step (2·margin − f) ∇f/‖∇f‖² grows as ∇f → 0 and is cut to
+/// max_step_mm, so
+///  - near a local maximum of f outside the muscle it overshoots back and forth;
 ///  - in a part thinner than one step (max f < 2·margin) it jumps from the ridge across
 ///    the part to the far side, f ≤ 0 again, and can stop there (unit test);
 ///  - far outside (f at its offset, ∇f = 0) it cannot move at all.
-/// (The other 163 of the 164 gluteus points outside at 30–80° were fibre ends, which are
-/// not projected; see end_depth in fibre_generator.h.)
 /// projectInside therefore only accepts steps that raise f (the Newton step, halved
 /// until f rises), so the point ends at the highest f met on its path: f > 0 whenever the
 /// path reaches the muscle, even where the muscle is thinner than 2·margin. Points the

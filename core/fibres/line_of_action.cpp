@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "fibres/line_of_action.h"
 
 #include <limits>
@@ -18,7 +19,7 @@ ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone,
     if (bone < 0 || (bone_count > 0 && bone >= bone_count))
       throw std::invalid_argument("makeViaPointPath: bone " + std::to_string(bone) + " outside [0, " +
                                   std::to_string(bone_count) + ")");
-  ViaPointPath path{points_mm, std::vector<int>(static_cast<size_t>(k), first_bone)};
+  ViaPointPath path{points_mm, std::vector<int>(static_cast<size_t>(k), first_bone), {}};
   path.bones.back() = last_bone;
   double total = 0;
   for (Eigen::Index i = 1; i < k; ++i) total += (points_mm.col(i) - points_mm.col(i - 1)).norm();
@@ -38,17 +39,30 @@ ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone,
   return path;
 }
 
-double calcPathLength(const ViaPointPath& path, const std::vector<Eigen::Isometry3d>& bone_motion_M) {
+double calcPathLength(const ViaPointPath& path, const std::vector<Eigen::Isometry3d>& bone_motion_M,
+                      const Eigen::VectorXd& q) {
+  if (!path.conditions.empty() && path.conditions.size() != static_cast<size_t>(path.points_mm.cols()))
+    throw std::invalid_argument("calcPathLength: " + std::to_string(path.conditions.size()) + " conditions for " +
+                                std::to_string(path.points_mm.cols()) + " points");
   double length = 0;
   Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  bool first = true;
   for (Eigen::Index i = 0; i < path.points_mm.cols(); ++i) {
+    if (!path.conditions.empty()) {
+      const PathPointCondition& c = path.conditions[static_cast<size_t>(i)];
+      if (c.coordinate >= q.size())
+        throw std::invalid_argument("calcPathLength: point " + std::to_string(i) + " depends on coordinate " +
+                                    std::to_string(c.coordinate) + " but " + std::to_string(q.size()) + " were given");
+      if (c.coordinate >= 0 && !(q[c.coordinate] >= c.min && q[c.coordinate] <= c.max)) continue;
+    }
     const int bone = path.bones[static_cast<size_t>(i)];
     if (bone < 0 || bone >= static_cast<int>(bone_motion_M.size()))
       throw std::invalid_argument("calcPathLength: point " + std::to_string(i) + " is on bone " + std::to_string(bone) +
                                   " but " + std::to_string(bone_motion_M.size()) + " transforms were given");
     const Eigen::Vector3d p = bone_motion_M[static_cast<size_t>(bone)] * Eigen::Vector3d(path.points_mm.col(i));
-    if (i > 0) length += (p - previous).norm();
+    if (!first) length += (p - previous).norm();
     previous = p;
+    first = false;
   }
   return length;
 }

@@ -11,10 +11,18 @@
 
 namespace rbfmuscle {
 
+/// A point on the path only while a coordinate lies in [min, max] (OpenSim's ConditionalPathPoint).
+struct PathPointCondition {
+  int coordinate = -1;  ///< index into the frame's coordinates; -1: always on the path
+  double min = 0.0;     ///< rad or mm
+  double max = 0.0;
+};
+
 /// A path of K ≥ 2 points, each fixed to one bone.
 struct ViaPointPath {
-  Eigen::Matrix3Xd points_mm;  ///< 3×K rest positions (mm, M)
-  std::vector<int> bones;      ///< bone of each point, in [0, B)
+  Eigen::Matrix3Xd points_mm;                  ///< 3×K rest positions (mm, M)
+  std::vector<int> bones;                      ///< bone of each point, in [0, B)
+  std::vector<PathPointCondition> conditions;  ///< empty (every point always on), or one per point
 };
 
 /// The path through `points_mm` (3×K, K ≥ 2, rest, M): the first point on `first_bone`,
@@ -27,9 +35,11 @@ struct ViaPointPath {
 ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone, int last_bone,
                               const std::vector<const MeshDistance*>& bones_M);
 
-/// Length (mm) of the path with its points moved by their bone's transform
-/// (bone_motion_M[b]: rest → now, M).
-/// @throws std::invalid_argument if a point's bone has no transform.
-double calcPathLength(const ViaPointPath& path, const std::vector<Eigen::Isometry3d>& bone_motion_M);
+/// Length (mm) of the path through its points that are on it at coordinates `q` (rad or mm),
+/// each moved by its bone's transform (bone_motion_M[b]: rest → now, M).
+/// @throws std::invalid_argument if a point's bone has no transform, `conditions` is neither
+///   empty nor one per point, or a condition's coordinate is outside `q`.
+double calcPathLength(const ViaPointPath& path, const std::vector<Eigen::Isometry3d>& bone_motion_M,
+                      const Eigen::VectorXd& q = Eigen::VectorXd());
 
 }  // namespace rbfmuscle

@@ -12,13 +12,10 @@ namespace rbfmuscle {
 struct FitSettings {
   int max_centres = 1000;          ///< centre budget N
   double tolerance_mm = 0.0;       ///< stop early when the RMS residual on surface samples ≤ this (0 = budget only)
-  /// τ: target t(x) = clamp(−s(x), −τ, τ), offset b = −τ (mm). 10 rather than 5: with the
-  /// target clamped close to the surface the fit builds the muscle from wide positive
-  /// Gaussians carved by narrow negative ones (gluteus maximus, 1000 centres: negative
-  /// weights sum to 0.86 of the positive ones at τ 5, 0.50 at τ 10), and a carved field
-  /// tears when the motion moves the carving centres (islands, surface jumps of 10–19 mm
-  /// between 1° frames). Measured fits, τ 5 → 10: gluteus maximus Jaccard 0.977 → 0.974,
-  /// max distance 2.54 → 1.47 mm; iliacus (2000) 0.972 → 0.973, 0.95 → 1.36 mm.
+  /// τ: target t(x) = clamp(−s(x), −τ, τ), offset b = −τ (mm). A target clamped closer to
+  /// the surface builds the muscle from wide positive Gaussians carved by narrow negative
+  /// ones, and a carved field tears when the motion moves the carving centres
+  /// (docs/design.md, Fits).
   double clamp_mm = 10.0;
   double normal_offset_mm = 1.0;   ///< d: samples ±d along the vertex normals (mm)
   int halton_samples = 30000;      ///< Halton(2,3,5) samples in the padded box
@@ -29,21 +26,16 @@ struct FitSettings {
   int check_band_samples = 30000;
   /// … and, when true, points 2d, 4d, 8d, … (< τ) off every vertex along its normal, in and
   /// out: they fill the pockets of a concave surface, where the fields of centres on either
-  /// side meet. On the psoas major (1000 centres) the band points alone left a crumb 3.6 mm
-  /// out in such a pocket (2 components); with the layers it fits in one piece.
+  /// side meet and the band points alone can leave a crumb.
   bool check_normal_layers = true;
   /// Checks begin once this fraction of the centre budget is placed, so that the rest can
   /// carve where they find the field wrong. Earlier the field is wrong nearly everywhere and
-  /// the checks only add samples, which cost accuracy (psoas, from ¼: 87 added, Jaccard
-  /// 0.948); from ½ the gluteus maximus's max distance grows 1.471 → 1.492 mm; after the
-  /// last round only (refit, no carving) the psoas's max distance is 4.07 mm against 3.84.
+  /// the checks only add samples, which cost accuracy; after the last round only nothing is
+  /// left to carve.
   double check_start_fraction = 0.75;
   /// Shape set α (mm⁻²) the greedy step chooses from; σ = α^−½ from ~14 mm to ~1.4 mm.
-  /// No wider shapes: a Gaussian can only move with its centre, so one much wider than
-  /// the muscle's thickness cannot follow a bend (the gluteus maximus at 80° flexion),
-  /// and it reaches more quadrature points, which slows every frame. Measured on the
-  /// gluteus maximus with 1000 centres: Jaccard 0.977 against 0.974 with shapes down to
-  /// 0.0005 (σ 45 mm), and a prediction-only frame 3× faster.
+  /// No wider shapes: a Gaussian much wider than the muscle's thickness cannot follow a bend,
+  /// and it reaches more quadrature points, which slows every frame.
   std::vector<double> shapes_per_mm2 = {0.005, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5};
   double regularisation_gamma = 0.9;  ///< γ of eq. 7.12: 1 = pure error, lower = prefer wide shapes near the surface
   double ridge = 1e-6;             ///< Tikhonov weight μ on ‖λ‖², relative to the mean column norm²

@@ -36,10 +36,18 @@ AbstractSocket* Component::findSocket(const std::string& name) const {
 AbstractOutput* Component::findOutput(const std::string& name) const {
   return findByName(outputs_, name);
 }
+Component* Component::findSubcomponent(const std::string& name) const {
+  return findByName(subcomponents_, name);
+}
 
 void Component::finalizeProperties() {
   try {
     for (const AbstractProperty* property : properties_) property->validate();
+  } catch (const FrameworkError& error) {
+    throwAt(location_, error.what());
+  }
+  for (Component* sub : subcomponents_) sub->finalizeProperties();
+  try {
     extendFinalizeProperties();
   } catch (const FrameworkError& error) {
     throwAt(location_, error.what());

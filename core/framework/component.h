@@ -49,14 +49,17 @@ class Component {
   const std::vector<AbstractOutput*>& getOutputs() const { return outputs_; }
   /// Promises about this component's outputs that the run loop checks after every frame.
   const std::vector<Invariant>& getInvariants() const { return invariants_; }
+  /// Components nested in this one, in declaration order (subcomponent.h).
+  const std::vector<Component*>& getSubcomponents() const { return subcomponents_; }
   /// nullptr when there is none of that name.
   AbstractProperty* findProperty(const std::string& name) const;
   AbstractSocket* findSocket(const std::string& name) const;
   AbstractOutput* findOutput(const std::string& name) const;
+  Component* findSubcomponent(const std::string& name) const;
 
-  /// Checks every property (required present, finite, in range), then
-  /// extendFinalizeProperties(). @throws FrameworkError prefixed with the
-  /// source location.
+  /// Checks every property (required present, finite, in range), then every
+  /// subcomponent's, then extendFinalizeProperties(). @throws FrameworkError
+  /// prefixed with the source location.
   void finalizeProperties();
   /// Connects every socket, then extendConnectSockets().
   /// @throws FrameworkError prefixed with the source location.
@@ -83,6 +86,7 @@ class Component {
   friend class AbstractProperty;
   friend class AbstractSocket;
   friend class AbstractOutput;
+  friend class Subcomponent;
 
   std::string name_;
   std::string class_name_;
@@ -91,6 +95,7 @@ class Component {
   std::vector<AbstractSocket*> sockets_;
   std::vector<AbstractOutput*> outputs_;
   std::vector<Invariant> invariants_;
+  std::vector<Component*> subcomponents_;
 };
 
 }  // namespace rbfmuscle

@@ -19,6 +19,55 @@ std::string listSocketNames(const std::vector<AbstractSocket*>& items) {
   return text.empty() ? "none" : text;
 }
 
+std::string listSubcomponentNames(const std::vector<Component*>& items) {
+  std::string text;
+  for (const auto* item : items) text += (text.empty() ? "" : ", ") + ("<" + item->getName() + ">");
+  return text.empty() ? "none" : text;
+}
+
+/// Sets the properties, socket targets and subcomponents a spec gives.
+void applySpec(Component& component, const ComponentSpec& spec) {
+  for (const PropertySpec& p : spec.properties) {
+    AbstractProperty* property = component.findProperty(p.name);
+    if (const Component* sub = property ? nullptr : component.findSubcomponent(p.name)) {
+      if (p.text.empty()) continue;  // <fibres/>: the subcomponent's defaults
+      throwAt(p.location, "'" + p.name + "' is a subcomponent: give its properties inside, as <" + p.name +
+                              "><PROPERTY>value</PROPERTY></" + p.name + "> (its properties: " +
+                              listNames(sub->getProperties()) + ")");
+    }
+    if (property == nullptr)
+      throwAt(p.location, "unknown property '" + p.name + "' (" + spec.class_name +
+                              " has properties: " + listNames(component.getProperties()) +
+                              "; sockets: " + listSocketNames(component.getSockets()) +
+                              (component.getSubcomponents().empty()
+                                   ? std::string()
+                                   : "; subcomponents: " + listSubcomponentNames(component.getSubcomponents())) +
+                              ")");
+    try {
+      property->read(p.text);
+    } catch (const FrameworkError& error) {
+      throwAt(p.location, std::string(property->getTypeName()) + " property: " + error.what());
+    }
+  }
+  for (const SocketSpec& s : spec.sockets) {
+    AbstractSocket* socket = component.findSocket(s.name);
+    if (socket == nullptr)
+      throwAt(s.location, "unknown socket 'socket_" + s.name + "' (" + spec.class_name +
+                              " has sockets: " + listSocketNames(component.getSockets()) + ")");
+    socket->setTargetName(s.target);
+  }
+  for (Component* sub : component.getSubcomponents()) sub->setSourceLocation(spec.location);
+  for (const ComponentSpec& s : spec.subcomponents) {
+    Component* sub = component.findSubcomponent(s.name);
+    if (sub == nullptr)
+      throwAt(s.location, "unknown subcomponent <" + s.name + "> (" + spec.class_name +
+                              " has subcomponents: " + listSubcomponentNames(component.getSubcomponents()) +
+                              "; properties: " + listNames(component.getProperties()) + ")");
+    sub->setSourceLocation(s.location);
+    applySpec(*sub, s);
+  }
+}
+
 std::unique_ptr<Component> createComponent(const ComponentSpec& spec, const Registry& registry) {
   std::unique_ptr<Component> component;
   try {
@@ -28,25 +77,7 @@ std::unique_ptr<Component> createComponent(const ComponentSpec& spec, const Regi
   }
   component->setName(spec.name);
   component->setSourceLocation(spec.location);
-  for (const PropertySpec& p : spec.properties) {
-    AbstractProperty* property = component->findProperty(p.name);
-    if (property == nullptr)
-      throwAt(p.location, "unknown property '" + p.name + "' (" + spec.class_name +
-                              " has properties: " + listNames(component->getProperties()) +
-                              "; sockets: " + listSocketNames(component->getSockets()) + ")");
-    try {
-      property->read(p.text);
-    } catch (const FrameworkError& error) {
-      throwAt(p.location, std::string(property->getTypeName()) + " property: " + error.what());
-    }
-  }
-  for (const SocketSpec& s : spec.sockets) {
-    AbstractSocket* socket = component->findSocket(s.name);
-    if (socket == nullptr)
-      throwAt(s.location, "unknown socket 'socket_" + s.name + "' (" + spec.class_name +
-                              " has sockets: " + listSocketNames(component->getSockets()) + ")");
-    socket->setTargetName(s.target);
-  }
+  applySpec(*component, spec);
   component->finalizeProperties();
   return component;
 }

@@ -65,6 +65,36 @@ FileReference readFileReference(const ModelDocument& doc, const XMLElement& elem
   return ref;
 }
 
+/// The properties, sockets and subcomponents of a component's element.
+void readComponentContent(const ModelDocument& doc, const XMLElement& element, ComponentSpec& spec) {
+  std::set<std::string> seen;
+  const std::string context = describeElement(element);
+  for (const XMLElement* child = element.FirstChildElement(); child != nullptr;
+       child = child->NextSiblingElement()) {
+    const std::string child_name = child->Name();
+    const SourceLocation where = locate(doc.path, *child, context);
+    if (!seen.insert(child_name).second) throwAt(where, "given twice");
+    checkAttributes(doc.path, *child, {});
+    const std::string prefix = "socket_";
+    if (child->FirstChildElement() != nullptr) {  // a subcomponent's properties
+      if (child_name.compare(0, prefix.size(), prefix) == 0)
+        throwAt(where, "expected text only, found child element <" + std::string(child->FirstChildElement()->Name()) + ">");
+      ComponentSpec sub;
+      sub.class_name = sub.name = child_name;
+      sub.location = where;
+      readComponentContent(doc, *child, sub);
+      spec.subcomponents.push_back(std::move(sub));
+    } else if (child_name.compare(0, prefix.size(), prefix) == 0) {
+      std::istringstream words(elementText(*child));
+      std::string target, word;
+      while (words >> word) target += (target.empty() ? "" : " ") + word;
+      spec.sockets.push_back({child_name.substr(prefix.size()), target, where});
+    } else {
+      spec.properties.push_back({child_name, elementText(*child), where});
+    }
+  }
+}
+
 ComponentSpec readComponent(const ModelDocument& doc, const XMLElement& element) {
   ComponentSpec spec;
   spec.class_name = element.Name();
@@ -74,30 +104,10 @@ ComponentSpec readComponent(const ModelDocument& doc, const XMLElement& element)
   if (name == nullptr || std::string(name).empty())
     throwAt(spec.location, "missing attribute 'name' (expected a component name)");
   spec.name = name;
-  if (spec.name.find_first_of(". \t") != std::string::npos)
+  if (spec.name.find_first_of("./ \t") != std::string::npos)
     throwAt(spec.location, "component name '" + spec.name +
-                               "' may not contain '.' or spaces (it prefixes output columns)");
-  std::set<std::string> seen;
-  const std::string context = describeElement(element);
-  for (const XMLElement* child = element.FirstChildElement(); child != nullptr;
-       child = child->NextSiblingElement()) {
-    const std::string child_name = child->Name();
-    const SourceLocation where = locate(doc.path, *child, context);
-    if (!seen.insert(child_name).second) throwAt(where, "given twice");
-    if (child->FirstChildElement() != nullptr)
-      throwAt(where, "expected text only, found child element <" +
-                         std::string(child->FirstChildElement()->Name()) + ">");
-    checkAttributes(doc.path, *child, {});
-    const std::string prefix = "socket_";
-    if (child_name.compare(0, prefix.size(), prefix) == 0) {
-      std::istringstream words(elementText(*child));
-      std::string target, word;
-      while (words >> word) target += (target.empty() ? "" : " ") + word;
-      spec.sockets.push_back({child_name.substr(prefix.size()), target, where});
-    } else {
-      spec.properties.push_back({child_name, elementText(*child), where});
-    }
-  }
+                               "' may not contain '.', '/' or spaces (it prefixes output columns)");
+  readComponentContent(doc, element, spec);
   return spec;
 }
 

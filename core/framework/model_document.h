@@ -12,6 +12,7 @@
 ///         <BodyOriginReporter name="femur_origin">      <!-- element = registered class -->
 ///           <point_mm>0 -400 0</point_mm>               <!-- property (snake_case) -->
 ///           <socket_body>femur_r</socket_body>          <!-- socket_NAME = target name -->
+///           <filter><order>2</order></filter>           <!-- subcomponent: its properties -->
 ///         </BodyOriginReporter>
 ///       </components>
 ///       <reporter outputs="femur_origin.*"/>            <!-- optional; patterns, default "*" -->
@@ -51,13 +52,15 @@ struct SocketSpec {
   SourceLocation location;
 };
 
-/// One element inside `<components>`.
+/// One element inside `<components>`, or a subcomponent's element inside its owner's.
 struct ComponentSpec {
-  std::string class_name;  ///< element name
-  std::string name;        ///< `name` attribute
+  std::string class_name;  ///< element name (a subcomponent: its name)
+  std::string name;        ///< `name` attribute (a subcomponent: its element name)
   SourceLocation location;
   std::vector<PropertySpec> properties;
   std::vector<SocketSpec> sockets;
+  /// Child elements that hold elements: subcomponents (`<fibres><count>50</count></fibres>`).
+  std::vector<ComponentSpec> subcomponents;
 };
 
 /// A `file` attribute of skeleton, plugin or motion.

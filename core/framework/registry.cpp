@@ -1,5 +1,7 @@
 #include "framework/registry.h"
 
+#include "framework/subcomponent.h"
+
 #include <cctype>
 #include <sstream>
 
@@ -47,14 +49,12 @@ std::unique_ptr<Component> Registry::create(const std::string& class_name) const
   return component;
 }
 
-std::string Registry::describeType(const ComponentType& type) const {
-  const std::unique_ptr<Component> component = create(type.class_name);
-  std::ostringstream out;
-  out << type.class_name << "  -  " << type.description << '\n';
-  if (!type.origin.empty()) out << "  from " << type.origin << '\n';
-  out << "  properties:" << (component->getProperties().empty() ? " none" : "") << '\n';
-  for (const AbstractProperty* p : component->getProperties()) {
-    out << "    " << p->getName() << " (" << p->getTypeName() << ", ";
+namespace {
+
+/// One line per property: name (type, default or required, range): description.
+void describeProperties(const Component& component, const std::string& prefix, std::ostringstream& out) {
+  for (const AbstractProperty* p : component.getProperties()) {
+    out << "    " << prefix << p->getName() << " (" << p->getTypeName() << ", ";
     if (p->isRequired()) {
       out << "required";
     } else {
@@ -62,6 +62,21 @@ std::string Registry::describeType(const ComponentType& type) const {
     }
     if (!p->formatRange().empty()) out << ", range " << p->formatRange();
     out << "): " << p->getDescription() << '\n';
+  }
+}
+
+}  // namespace
+
+std::string Registry::describeType(const ComponentType& type) const {
+  const std::unique_ptr<Component> component = create(type.class_name);
+  std::ostringstream out;
+  out << type.class_name << "  -  " << type.description << '\n';
+  if (!type.origin.empty()) out << "  from " << type.origin << '\n';
+  out << "  properties:" << (component->getProperties().empty() ? " none" : "") << '\n';
+  describeProperties(*component, "", out);
+  for (const Component* sub : component->getSubcomponents()) {
+    out << "  <" << sub->getName() << ">: " << static_cast<const Subcomponent*>(sub)->getDescription() << '\n';
+    describeProperties(*sub, sub->getName() + "/", out);
   }
   out << "  sockets:" << (component->getSockets().empty() ? " none" : "") << '\n';
   for (const AbstractSocket* s : component->getSockets())

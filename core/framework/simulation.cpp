@@ -3,6 +3,7 @@
 #include "framework/interrupt.h"
 #include "framework/progress_bar.h"
 #include "framework/reporter.h"
+#include "framework/session.h"
 #include "framework/staged_directory.h"
 
 #include <algorithm>
@@ -168,12 +169,9 @@ RunSummary runModel(Model& model, const RunOptions& options) {
   summary.initialize_seconds = msSince(start) / 1000.0;
 
   const Motion& motion = model.getMotion();
-  Skeleton& skeleton = model.updSkeleton();
   const auto& components = model.getComponents();
   const int frames = motion.getNumFrames();
-  Reporter reporter(model.getDocument().name, skeleton.getCoordinateNames(), components,
-                    model.getDocument().reporter_patterns, model.getDocument().reporter_location,
-                    frames);
+  Session session(model, frames);
 
   summary.stages.push_back({"skeleton"});
   for (const auto& component : components)
@@ -182,9 +180,6 @@ RunSummary runModel(Model& model, const RunOptions& options) {
   summary.stages.push_back({"output"});
   if (options.write_frame_meshes) summary.stages.push_back({"frames_mesh"});
 
-  const int num_bodies = static_cast<int>(skeleton.getBodyNames().size());
-  std::vector<Eigen::Isometry3d> X_GB(num_bodies, Eigen::Isometry3d::Identity());
-  std::vector<char> moved(num_bodies, 1);
   std::vector<double> frame_ms;
   frame_ms.reserve(frames);
   std::vector<FrameGeometry> geometry_buffer;
@@ -204,42 +199,11 @@ RunSummary runModel(Model& model, const RunOptions& options) {
       first_frame_notice = std::make_unique<SlowWorkNotice>("computing frame 1 of " + std::to_string(frames));
     const auto frame_start = Clock::now();
     const double time_s = motion.getTime(frame);
-    start = Clock::now();
-    skeleton.setCoordinateValues(motion.getCoordinates(frame));
-    for (int b = 0; b < num_bodies; ++b) {
-      const Eigen::Isometry3d X = skeleton.getBodyTransform(b);
-      moved[b] = frame == 0 || !X.isApprox(X_GB[b], 0.0);
-      X_GB[b] = X;
-    }
-    addTime(summary.stages[0], msSince(start));
-    const FrameState state(frame, time_s, skeleton.getCoordinateValues(), X_GB, moved, options.write_frame_meshes);
-    throwIfInterrupted();
-    // Components of one frame are independent: they update in parallel, each on one thread,
-    // so the results do not depend on the thread count. The first error (in document order)
-    // is the one reported.
-    const int count = static_cast<int>(components.size());
-    std::vector<std::string> errors(components.size());
-    std::vector<double> update_ms(components.size(), 0.0);
-#pragma omp parallel for schedule(dynamic, 1)
-    for (int c = 0; c < count; ++c) {
-      const auto component_start = Clock::now();
-      try {
-        components[static_cast<std::size_t>(c)]->update(state);
-      } catch (const std::exception& error) {
-        errors[static_cast<std::size_t>(c)] = error.what();
-        if (errors[static_cast<std::size_t>(c)].empty()) errors[static_cast<std::size_t>(c)] = "unknown error";
-      }
-      update_ms[static_cast<std::size_t>(c)] = msSince(component_start);
-    }
-    for (std::size_t c = 0; c < components.size(); ++c) {
-      if (!errors[c].empty())
-        throwAt(components[c]->getSourceLocation(), "update at frame " + std::to_string(frame) + ": " + errors[c]);
-      addTime(summary.stages[1 + c], update_ms[c]);
-    }
+    const FrameTiming& timing = session.step(time_s, motion.getCoordinates(frame), options.write_frame_meshes);
+    addTime(summary.stages[0], timing.skeleton_ms);
+    for (std::size_t c = 0; c < components.size(); ++c) addTime(summary.stages[1 + c], timing.component_ms[c]);
+    addTime(summary.stages[1 + components.size()], timing.output_ms);
     invariants.check(frame, time_s);
-    start = Clock::now();
-    reporter.record(time_s, skeleton.getCoordinateValues());
-    addTime(summary.stages[1 + components.size()], msSince(start));
     if (options.write_frame_meshes) {
       start = Clock::now();
       writeFrameGeometry(model, frame, time_s, dir, geometry_buffer, series);
@@ -261,9 +225,9 @@ RunSummary runModel(Model& model, const RunOptions& options) {
     summary.frame_median_ms = medianOf(sorted);
     summary.frame_max_ms = sorted.back();
   }
-  summary.reported = summarizeReportedTimes(reporter.getTable());
+  summary.reported = summarizeReportedTimes(session.getTable());
 
-  reporter.write(dir);
+  session.getReporter().write(dir);
   for (const auto& [name, pvd] : series) pvd.write((fs::path(dir) / (name + ".pvd")).string());
   summary.total_seconds = options.load_seconds + msSince(run_start) / 1000.0;
   writeSummaryJson((fs::path(dir) / "summary.json").string(), model, summary, options.load_seconds);

@@ -60,8 +60,8 @@ struct RunSummary {
   std::vector<InvariantBreak> invariant_breaks;  ///< invariants broken (none under --strict)
 };
 
-/// Runs the model's motion. Components update in document order each frame
-/// after the skeleton is set to the frame's coordinates.
+/// Runs the model's motion: initialises the components, then steps a Session (session.h)
+/// through the motion's frames.
 /// @throws FrameworkError (or the component's exception text prefixed with its
 ///   XML location); OUTDIR is then neither created nor changed.
 RunSummary runModel(Model& model, const RunOptions& options);

@@ -11,7 +11,7 @@
 #include "framework/interrupt.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_warning.h"
-#include "host_commands.h"
+#include "host/usage_error.h"
 #include "io/file_checks.h"
 
 namespace rbfmuscle {
@@ -83,31 +83,23 @@ void checkWritable(const std::string& path) {
   std::remove(probe.c_str());
 }
 
-/// Surface mesh back in the source mesh's frame.
-TriangleMesh toSourceFrame(TriangleMesh mesh, const Eigen::Vector3d& offset_mm) {
-  mesh.vertices_mm.colwise() += offset_mm;
-  return mesh;
-}
-
 }  // namespace
 
-int runFitCommand(int argc, char** argv) {
-  std::string mesh_path, output_path, surface_path;
-  FitSettings settings;
-  bool fix_winding = false, quiet = false;
-  std::vector<double> search;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
+FitJob parseFitArguments(const std::vector<std::string>& args, bool require_output) {
+  FitJob job;
+  FitSettings& settings = job.settings;
+  for (std::size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
     auto value = [&]() -> std::string {
-      if (i + 1 >= argc) throw UsageError("fit: " + arg + " needs a value");
-      return argv[++i];
+      if (i + 1 >= args.size()) throw UsageError("fit: " + arg + " needs a value");
+      return args[++i];
     };
     if (arg == "-h" || arg == "--help") {
-      std::fputs(kFitUsage, stdout);
-      return 0;
+      job.help = true;
+      return job;
     } else if (arg == "--centres") settings.max_centres = parseCount(arg, value(), 1);
-    else if (arg == "-o" || arg == "--output") output_path = value();
-    else if (arg == "--surface") surface_path = value();
+    else if (arg == "-o" || arg == "--output") job.output_path = value();
+    else if (arg == "--surface") job.surface_path = value();
     else if (arg == "--tolerance-mm") settings.tolerance_mm = parseNumber(arg, value());
     else if (arg == "--clamp-mm") settings.clamp_mm = parseNumber(arg, value());
     else if (arg == "--normal-offset-mm") settings.normal_offset_mm = parseNumber(arg, value());
@@ -121,15 +113,16 @@ int runFitCommand(int argc, char** argv) {
     else if (arg == "--cell-mm") settings.surface_cell_mm = parseNumber(arg, value());
     else if (arg == "--metric-points") settings.metric_points = parseCount(arg, value(), 100000);
     else if (arg == "--global-shape") settings.global_shape_per_mm2 = parseNumber(arg, value());
-    else if (arg == "--global-search") search = parseList(arg, value());
-    else if (arg == "--fix-winding") fix_winding = true;
-    else if (arg == "--quiet") quiet = true;
+    else if (arg == "--global-search") job.global_search = parseList(arg, value());
+    else if (arg == "--fix-winding") job.fix_winding = true;
+    else if (arg == "--quiet") job.quiet = true;
     else if (!arg.empty() && arg[0] == '-') throw UsageError("fit: unknown option '" + arg + "'\n" + kFitUsage);
-    else if (mesh_path.empty()) mesh_path = arg;
-    else throw UsageError("fit: more than one mesh given ('" + mesh_path + "', '" + arg + "')");
+    else if (job.mesh_path.empty()) job.mesh_path = arg;
+    else throw UsageError("fit: more than one mesh given ('" + job.mesh_path + "', '" + arg + "')");
   }
-  if (mesh_path.empty()) throw UsageError(std::string("fit: no mesh given\n") + kFitUsage);
-  if (output_path.empty()) throw UsageError(std::string("fit: -o OUT.rbf is required\n") + kFitUsage);
+  if (job.mesh_path.empty()) throw UsageError(std::string("fit: no mesh given\n") + kFitUsage);
+  if (require_output && job.output_path.empty())
+    throw UsageError(std::string("fit: -o OUT.rbf is required\n") + kFitUsage);
   if (!(settings.clamp_mm > 0)) throw UsageError("fit: --clamp-mm must be > 0");
   if (!(settings.normal_offset_mm > 0)) throw UsageError("fit: --normal-offset-mm must be > 0");
   if (!(settings.regularisation_gamma >= 0 && settings.regularisation_gamma <= 1))
@@ -139,26 +132,59 @@ int runFitCommand(int argc, char** argv) {
   if (!(settings.surface_cell_mm > 0)) throw UsageError("fit: --cell-mm must be > 0");
   if (!(settings.check_start_fraction >= 0 && settings.check_start_fraction <= 1))
     throw UsageError("fit: --check-start must be in [0, 1]");
-  if (!search.empty() && search.size() != 3)
+  if (!job.global_search.empty() && job.global_search.size() != 3)
     throw UsageError("fit: --global-search expects LO,HI,K");
+  return job;
+}
+
+MeshFit runFitJob(const FitJob& job, const FitProgressFn& progress,
+                  const std::function<void(double alpha, double metric)>& global_report) {
   // An output never replaces an input or another output (the same file by device and inode,
   // or the same path when it does not exist yet).
-  if (io::isSameFile(output_path, mesh_path))
-    throw UsageError("fit: -o " + output_path + " is the input mesh " + mesh_path +
+  if (!job.output_path.empty() && io::isSameFile(job.output_path, job.mesh_path))
+    throw UsageError("fit: -o " + job.output_path + " is the input mesh " + job.mesh_path +
                      "; refusing to overwrite it (choose another output file)");
-  if (!surface_path.empty() && io::isSameFile(surface_path, mesh_path))
-    throw UsageError("fit: --surface " + surface_path + " is the input mesh " + mesh_path +
+  if (!job.surface_path.empty() && io::isSameFile(job.surface_path, job.mesh_path))
+    throw UsageError("fit: --surface " + job.surface_path + " is the input mesh " + job.mesh_path +
                      "; refusing to overwrite it (choose another output file)");
-  if (!surface_path.empty() && io::isSameFile(surface_path, output_path))
-    throw UsageError("fit: --surface " + surface_path + " and -o " + output_path +
+  if (!job.surface_path.empty() && !job.output_path.empty() && io::isSameFile(job.surface_path, job.output_path))
+    throw UsageError("fit: --surface " + job.surface_path + " and -o " + job.output_path +
                      " are the same file; give two different files");
   {
-    const std::string problem = io::findInputFileProblem(mesh_path, "a mesh file");
-    if (!problem.empty()) throw std::runtime_error(mesh_path + ": " + problem);
+    const std::string problem = io::findInputFileProblem(job.mesh_path, "a mesh file");
+    if (!problem.empty()) throw std::runtime_error(job.mesh_path + ": " + problem);
   }
-  checkWritable(output_path);
-  if (!surface_path.empty()) checkWritable(surface_path);
+  if (!job.output_path.empty()) checkWritable(job.output_path);
+  if (!job.surface_path.empty()) checkWritable(job.surface_path);
+  if (job.global_search.empty()) return fitMeshFile(job.mesh_path, job.settings, job.fix_winding, progress);
+  return fitMeshFileGlobalShape(job.mesh_path, job.settings, job.fix_winding, job.global_search[0],
+                                job.global_search[1], static_cast<int>(job.global_search[2]), global_report);
+}
 
+void writeFitOutputs(const FitJob& job, const MeshFit& fit) {
+  if (!job.output_path.empty()) writeRbfFile(job.output_path, fit.surface);
+  if (job.surface_path.empty()) return;
+  try {
+    writePly(job.surface_path, fittedSurfaceInSourceFrame(fit));
+  } catch (...) {
+    if (!job.output_path.empty()) std::remove(job.output_path.c_str());  // all outputs or none
+    throw;
+  }
+}
+
+TriangleMesh fittedSurfaceInSourceFrame(const MeshFit& fit) {
+  TriangleMesh mesh = fit.metrics.surface_M;
+  mesh.vertices_mm.colwise() += fit.surface.frame_offset_mm;
+  return mesh;
+}
+
+int runFitCommand(int argc, char** argv) {
+  const FitJob job = parseFitArguments(std::vector<std::string>(argv + 1, argv + argc), true);
+  if (job.help) {
+    std::fputs(kFitUsage, stdout);
+    return 0;
+  }
+  const bool quiet = job.quiet;
   const FitProgressFn progress = [quiet](const FitProgress& p) {
     throwIfInterrupted();  // SIGINT / SIGTERM: stop after this round, nothing written
     if (quiet) return;
@@ -166,29 +192,15 @@ int runFitCommand(int argc, char** argv) {
                  p.round, p.centres, p.max_centres, p.rms_surface_mm, p.rms_all_mm);
     std::fflush(stderr);
   };
-  MeshFit fit;
-  if (search.empty()) {
-    fit = fitMeshFile(mesh_path, settings, fix_winding, progress);
-  } else {
-    fit = fitMeshFileGlobalShape(mesh_path, settings, fix_winding, search[0], search[1],
-                                 static_cast<int>(search[2]), [quiet](double alpha, double metric) {
-                                   if (!quiet) std::fprintf(stderr, "fit: global shape %.6g mm^-2 -> C_m %.6f\n", alpha, metric);
-                                 });
-  }
+  const MeshFit fit = runFitJob(job, progress, [quiet](double alpha, double metric) {
+    if (!quiet) std::fprintf(stderr, "fit: global shape %.6g mm^-2 -> C_m %.6f\n", alpha, metric);
+  });
   if (!quiet) std::fprintf(stderr, "\nfit: stopped by %s after %d rounds; last refit: %s after %d iterations; %d check points made samples; %d samples resigned\n",
                            fit.stop_reason.c_str(), fit.rounds,
                            fit.final_refit.reached_tolerance ? "tolerance" : "iteration cap",
                            fit.final_refit.iterations, fit.check_samples_added, fit.resigned_samples);
   for (const std::string& warning : fit.warnings) printMeshWarning(warning);
-  writeRbfFile(output_path, fit.surface);
-  if (!surface_path.empty()) {
-    try {
-      writePly(surface_path, toSourceFrame(fit.metrics.surface_M, fit.surface.frame_offset_mm));
-    } catch (...) {
-      std::remove(output_path.c_str());  // all outputs or none
-      throw;
-    }
-  }
+  writeFitOutputs(job, fit);
   std::cout << fit.surface.metrics_json << std::endl;
   return 0;
 }

@@ -5,7 +5,7 @@
 #include "framework/plugin_loader.h"
 #include "framework/registry.h"
 #include "framework/simulation.h"
-#include "host/model_overrides.h"
+#include "host/model_loading.h"
 #include "io/file_checks.h"
 
 #include <unistd.h>
@@ -37,9 +37,10 @@ const char* const kRunHelp =
     "options:\n"
     "  -o, --output OUTDIR  output directory (required)\n"
     "  -L, --library PLUGIN load a component plugin (repeatable); see 'plugins' below\n"
-    "  --set COMPONENT.PROPERTY=VALUE\n"
+    "  --set COMPONENT[/SUBCOMPONENT].PROPERTY=VALUE\n"
     "                       override (or add) a property of a component in MODEL.xml\n"
-    "                       (repeatable; later ones win), e.g. --set glmax_r.quadrature_points=2000\n"
+    "                       (repeatable; later ones win), e.g. --set glmax_r.centres=2000\n"
+    "                       or --set glmax_r/fibres.count=50\n"
     "  --motion FILE        use this motion file instead of MODEL.xml's (path relative to\n"
     "                       the current directory)\n"
     "  --report C.OUTPUT    record only the outputs matching this pattern ('*' matches any\n"
@@ -130,15 +131,6 @@ CommandLine parseCommandLine(const std::vector<std::string>& args, bool with_run
   return line;
 }
 
-void loadPlugins(const std::vector<std::string>& specs, const std::string& model_directory,
-                 PluginLoader& loader, Registry& registry) {
-  std::vector<std::string> dirs;
-  if (!model_directory.empty()) dirs.push_back(model_directory);
-  const std::string host_lib = hostLibraryDirectory();
-  if (!host_lib.empty()) dirs.push_back(host_lib);
-  for (const auto& spec : specs) loader.load(spec, dirs, registry);
-}
-
 }  // namespace
 
 std::string usageText() {
@@ -168,10 +160,8 @@ int runCommand(const std::vector<std::string>& args) {
   const auto start = std::chrono::steady_clock::now();
   Registry registry;
   PluginLoader loader;
-  ModelDocument document = readModelDocument(line.positional[0]);
-  for (const std::string& assignment : line.overrides) applyPropertyOverride(document, assignment);
-  if (!line.motion.empty()) overrideMotion(document, line.motion);
-  if (!line.reports.empty()) overrideReporter(document, line.reports);
+  const ModelSource source{line.positional[0], line.plugins, line.overrides, line.motion, line.reports};
+  ModelDocument document = readModelSource(source);
   // OUTDIR is replaced as a whole when the run succeeds: it may not hold an input.
   const std::pair<const char*, std::string> inputs[] = {{"model file", document.path},
                                                          {"model directory", document.directory},
@@ -181,15 +171,7 @@ int runCommand(const std::vector<std::string>& args) {
     if (io::isSameOrInside(path, line.output))
       throw UsageError("run: -o " + line.output + " holds the " + what + " " + path +
                        "; OUTDIR is replaced as a whole, so it may not hold an input (choose another OUTDIR)");
-  loadPlugins(line.plugins, document.directory, loader, registry);
-  for (const FileReference& plugin : document.plugins) {
-    try {
-      loadPlugins({plugin.path}, document.directory, loader, registry);
-    } catch (const FrameworkError& error) {
-      throwAt(plugin.location, error.what());
-    }
-  }
-  Model model = Model::build(std::move(document), registry);
+  Model model = buildModel(std::move(document), line.plugins, hostLibraryDirectory(), loader, registry);
   RunOptions options;
   options.output_directory = line.output;
   options.write_frame_meshes = line.frames_mesh;
@@ -216,7 +198,7 @@ int infoCommand(const std::vector<std::string>& args) {
   if (line.positional.size() > 1) throw UsageError("info takes at most one CLASS");
   Registry registry;
   PluginLoader loader;
-  loadPlugins(line.plugins, "", loader, registry);
+  loadPlugins(line.plugins, "", hostLibraryDirectory(), loader, registry);
   if (line.positional.size() == 1) {
     const ComponentType* type = registry.findType(line.positional[0]);
     if (type == nullptr)

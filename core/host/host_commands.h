@@ -2,17 +2,12 @@
 /// @file
 /// The `run` and `info` commands of the rbfmuscle host. The host only wires
 /// the framework together; it names no component class.
-#include <stdexcept>
+#include "host/usage_error.h"
+
 #include <string>
 #include <vector>
 
 namespace rbfmuscle {
-
-/// Bad command line: main prints the message and the usage, exits with 2.
-class UsageError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 /// `rbfmuscle run MODEL.xml -o OUTDIR [-L plugin]... [--set COMPONENT.PROPERTY=VALUE]...
 ///  [--motion FILE] [--frames-mesh] [--quiet]`.

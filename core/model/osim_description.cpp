@@ -4,6 +4,7 @@
 #include <tinyxml2.h>
 
 #include <algorithm>
+#include <array>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -18,6 +19,7 @@
 #include <sstream>
 
 #include "model/model_error.h"
+#include "model/osim_xml.h"
 #include "model/urdf_description.h"
 #include "io/file_checks.h"
 
@@ -29,41 +31,7 @@ using tinyxml2::XMLElement;
 
 constexpr int kMaxFrameDepth = 16;  ///< frames attached to frames, at most this deep
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
-
-/// `<Name name="value">` or `<Name>`.
-std::string describe(const XMLElement& e) {
-  std::string text = std::string("<") + e.Name();
-  if (const char* name = e.Attribute("name")) text += std::string(" name=\"") + name + "\"";
-  return text + ">";
-}
-
-std::string trim(const std::string& s) {
-  const char* ws = " \t\r\n";
-  const auto b = s.find_first_not_of(ws);
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(ws) - b + 1);
-}
-
-std::vector<std::string> words(const std::string& s) {
-  std::istringstream in(s);
-  std::vector<std::string> out;
-  std::string w;
-  while (in >> w) out.push_back(w);
-  return out;
-}
-
-std::string lower(std::string s) {
-  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return s;
-}
-
-/// Last component of an OpenSim component path ("/bodyset/pelvis" → "pelvis").
-std::string lastComponent(const std::string& path) {
-  std::string p = trim(path);
-  while (p.size() > 1 && p.back() == '/') p.pop_back();
-  const auto slash = p.rfind('/');
-  return slash == std::string::npos ? p : p.substr(slash + 1);
-}
+constexpr const char* kAxisNames[6] = {"rotation1", "rotation2", "rotation3", "translation1", "translation2", "translation3"};
 
 /// Rotation from OpenSim's body-fixed XYZ angles (rad): Rx(a) · Ry(b) · Rz(c).
 Eigen::Matrix3d bodyFixedXYZ(const Eigen::Vector3d& a) {
@@ -100,70 +68,22 @@ struct OsimJoint {
   Eigen::Isometry3d X_BM = Eigen::Isometry3d::Identity();  ///< mm
 };
 
-class OsimReader {
+class OsimReader : public OsimXml {
  public:
-  explicit OsimReader(std::string path) : path_(std::move(path)) {
-    dir_ = fs::absolute(fs::path(path_)).parent_path().lexically_normal();
-  }
+  explicit OsimReader(std::string path) : OsimXml(std::move(path)) {}
+  OsimReader(std::string path, const std::string& xml_text) : OsimXml(std::move(path), xml_text) {}
 
-  /// Reads the model from the text of its file.
-  SkeletonDescription read(const std::string& xml_text);
+  SkeletonDescription read();
 
  private:
-  [[noreturn]] void fail(const XMLElement* e, const std::string& what) const {
-    std::string m = "OpenSim model " + path_;
-    if (e) m += ", line " + std::to_string(e->GetLineNum()) + ": " + describe(*e);
-    throw ModelError(m + ": " + what);
-  }
-
-  /// The numbers of child `name` of `e`; `fallback` when there is no such child.
-  std::vector<double> numbers(const XMLElement& e, const char* name, std::size_t count,
-                              const std::vector<double>& fallback) const {
-    const XMLElement* c = child(e, name);
-    if (!c) {
-      if (fallback.size() != count) fail(&e, std::string("missing <") + name + ">");
-      return fallback;
-    }
-    std::vector<double> out;
-    for (const std::string& w : words(c->GetText() ? c->GetText() : "")) {
-      char* end = nullptr;
-      errno = 0;
-      const double v = std::strtod(w.c_str(), &end);
-      if (*end != '\0' || end == w.c_str() || errno == ERANGE || !std::isfinite(v))
-        fail(c, "'" + w + "' is not a finite number");
-      out.push_back(v);
-    }
-    if (out.size() != count)
-      fail(c, "holds " + std::to_string(out.size()) + " numbers, expected " + std::to_string(count));
-    return out;
-  }
-  Eigen::Vector3d vec3(const XMLElement& e, const char* name, const Eigen::Vector3d& fallback) const {
-    const auto v = numbers(e, name, 3, {fallback.x(), fallback.y(), fallback.z()});
-    return {v[0], v[1], v[2]};
-  }
-  double number(const XMLElement& e, const char* name, double fallback) const {
-    return numbers(e, name, 1, {fallback})[0];
-  }
-  std::string text(const XMLElement& e, const char* name) const {
-    const XMLElement* c = child(e, name);
-    return c && c->GetText() ? trim(c->GetText()) : "";
-  }
-  bool flag(const XMLElement& e, const char* name, bool fallback) const {
-    const std::string t = lower(text(e, name));
-    if (t.empty()) return fallback;
-    if (t == "true" || t == "1") return true;
-    if (t == "false" || t == "0") return false;
-    fail(child(e, name), "'" + t + "' is not true or false");
-  }
   /// Pose (mm) from a translation and body-fixed XYZ angles.
   Eigen::Isometry3d pose(const Eigen::Vector3d& translation_model, const Eigen::Vector3d& angles) const {
     Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
     X.linear() = bodyFixedXYZ(angles);
-    X.translation() = to_mm_ * translation_model;
+    X.translation() = getLengthToMm() * translation_model;
     return X;
   }
 
-  void readUnits(const XMLElement& model);
   void checkConstraints(const XMLElement& model);
   void collectBodies(const XMLElement& model);
   void collectJoints(const XMLElement& model);
@@ -175,28 +95,23 @@ class OsimReader {
                const Eigen::Vector3d& scale, std::vector<BodyMesh>& out) const;
   std::string resolveGeometryPath(const XMLElement& where, const std::string& file) const;
   void readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescription& d) const;
+  void readCustomJoint(const OsimJoint& j, const std::vector<std::pair<std::string, const XMLElement*>>& coordinates,
+                       SkeletonBody& out, SkeletonDescription& d) const;
+  /// The six TransformAxis elements of a CustomJoint, rotation1 … translation3.
+  std::array<const XMLElement*, 6> findTransformAxes(const XMLElement& joint) const;
+  /// An axis's function element (3.x: inside <function>; 4.x: its child), checked; null without one.
+  const XMLElement* findAxisFunction(const XMLElement& axis) const;
+  /// The axis's function as the skeleton reads it (coordinate index not yet set).
+  AxisFunction readAxisFunction(const XMLElement& axis, const XMLElement* function, const std::string& coordinate) const;
   std::vector<std::pair<std::string, const XMLElement*>> readCoordinateElements(const XMLElement& joint) const;
   int addCoordinate(const XMLElement* element, const std::string& name, CoordinateMotion motion,
                     const std::string& joint, SkeletonDescription& d) const;
   ParsedFunction readFunction(const XMLElement& axis, const XMLElement& function) const;
 
-  std::string path_;
-  fs::path dir_;
-  double to_mm_ = 1000.0;  ///< model length units → mm
   std::vector<OsimBody> bodies_;
   std::vector<OsimJoint> joints_;
   std::map<std::string, const XMLElement*> body_frames_;  ///< PhysicalOffsetFrames in bodies' components
 };
-
-void OsimReader::readUnits(const XMLElement& model) {
-  const std::string units = lower(text(model, "length_units"));
-  if (units.empty() || units == "meters" || units == "meter" || units == "m" || units == "metres")
-    to_mm_ = 1000.0;
-  else if (units == "millimeters" || units == "millimetres" || units == "mm")
-    to_mm_ = 1.0;
-  else
-    fail(child(model, "length_units"), "length units '" + units + "' are not supported (expected meters or millimeters)");
-}
 
 void OsimReader::checkConstraints(const XMLElement& model) {
   const XMLElement* set = child(model, "ConstraintSet");
@@ -245,7 +160,7 @@ Frame OsimReader::resolveFrame(const XMLElement& joint, const XMLElement* frames
                                const XMLElement* socket, int depth) const {
   if (depth > kMaxFrameDepth)
     fail(socket, "frames attached to frames nest deeper than " + std::to_string(kMaxFrameDepth) + " (a cycle?)");
-  const std::string name = lastComponent(path);
+  const std::string name = lastPathComponent(path);
   if (name.empty()) fail(socket, "names no frame");
   const XMLElement* offset = nullptr;
   if (frames)
@@ -275,7 +190,7 @@ Frame OsimReader::resolveFrame(const XMLElement& joint, const XMLElement* frames
   }
   for (const OsimBody& b : bodies_)
     if (b.name == name) return Frame{b.name, Eigen::Isometry3d::Identity()};
-  fail(socket, "frame '" + path + "' is neither a PhysicalOffsetFrame of " + describe(joint) +
+  fail(socket, "frame '" + path + "' is neither a PhysicalOffsetFrame of " + describeElement(joint) +
                    " or of a body, nor a body or ground");
 }
 
@@ -336,7 +251,7 @@ void OsimReader::readMassProperties(const OsimBody& b, SkeletonBody& out) const 
     return;
   }
   out.mass_kg = mass;
-  const Eigen::Vector3d c = to_mm_ * vec3(e, "mass_center", Eigen::Vector3d::Zero());
+  const Eigen::Vector3d c = getLengthToMm() * vec3(e, "mass_center", Eigen::Vector3d::Zero());
   Eigen::Matrix3d I_C;  // about the mass centre, in body axes, model units
   if (child(e, "inertia")) {  // 4.x: Ixx Iyy Izz Ixy Ixz Iyz
     const auto v = numbers(e, "inertia", 6, {});
@@ -348,21 +263,22 @@ void OsimReader::readMassProperties(const OsimBody& b, SkeletonBody& out) const 
   }
   if (!(c.cwiseAbs().maxCoeff() <= kMaxOsimOffset_mm))
     fail(child(e, "mass_center"), "mass centre more than 1000 m from the body's origin: expected a point on the body");
-  const double to_m = to_mm_ / 1000.0;
+  const double to_m = getLengthToMm() / 1000.0;
   const std::string problem = findMassPropertiesProblem(mass, to_m * to_m * I_C);
   if (!problem.empty()) fail(&e, "body '" + b.name + "': " + problem);
   out.com_B_mm = c;
-  out.inertia_B_kgmm2 = to_mm_ * to_mm_ * I_C + mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
+  out.inertia_B_kgmm2 = getLengthToMm() * getLengthToMm() * I_C + mass * (c.squaredNorm() * Eigen::Matrix3d::Identity() - c * c.transpose());
 }
 
 std::string OsimReader::resolveGeometryPath(const XMLElement& where, const std::string& file) const {
-  std::string name = trim(file);
+  std::string name = trimText(file);
   std::replace(name.begin(), name.end(), '\\', '/');
   const fs::path as_written(name);
+  const fs::path dir = fs::absolute(fs::path(getPath())).parent_path();
   std::vector<fs::path> candidates;
-  candidates.push_back(as_written.is_absolute() ? as_written : dir_ / as_written);
-  candidates.push_back(dir_ / "Geometry" / as_written.filename());
-  candidates.push_back(dir_ / "geometry" / as_written.filename());
+  candidates.push_back(as_written.is_absolute() ? as_written : dir / as_written);
+  candidates.push_back(dir / "Geometry" / as_written.filename());
+  candidates.push_back(dir / "geometry" / as_written.filename());
   std::string tried;
   for (const fs::path& p : candidates) {
     const fs::path normal = p.lexically_normal();
@@ -375,14 +291,14 @@ std::string OsimReader::resolveGeometryPath(const XMLElement& where, const std::
 
 void OsimReader::addMesh(const XMLElement& where, const std::string& file, const Eigen::Isometry3d& X_BM,
                          const Eigen::Vector3d& scale, std::vector<BodyMesh>& out) const {
-  if (trim(file).empty()) return;
-  const std::string ext = lower(fs::path(trim(file)).extension().string());
+  if (trimText(file).empty()) return;
+  const std::string ext = toLower(fs::path(trimText(file)).extension().string());
   if (ext != ".vtp" && ext != ".stl" && ext != ".obj" && ext != ".ply")
     fail(&where, "geometry file '" + file + "': extension '" + ext + "' is not supported (expected .vtp, .stl, .obj or .ply)");
   BodyMesh m;
   m.path = resolveGeometryPath(where, file);
   m.X_BM = X_BM;
-  m.scale_to_mm = to_mm_ * scale;
+  m.scale_to_mm = getLengthToMm() * scale;
   m.collision = false;
   out.push_back(std::move(m));
 }
@@ -395,7 +311,7 @@ void OsimReader::readGeometry(const OsimBody& b, SkeletonBody& out) const {
     const auto outer = numbers(*visible, "transform", 6, {0, 0, 0, 0, 0, 0});
     const Eigen::Isometry3d X_outer = pose({outer[3], outer[4], outer[5]}, {outer[0], outer[1], outer[2]});
     if (const XMLElement* list = child(*visible, "geometry_files"))
-      for (const std::string& file : words(list->GetText() ? list->GetText() : ""))
+      for (const std::string& file : splitWords(list->GetText() ? list->GetText() : ""))
         addMesh(*list, file, X_outer, outer_scale, out.meshes);
     const XMLElement* set = child(*visible, "GeometrySet");
     const XMLElement* objects = set ? child(*set, "objects") : nullptr;
@@ -414,7 +330,7 @@ void OsimReader::readGeometry(const OsimBody& b, SkeletonBody& out) const {
     if (!list) return;
     for (const XMLElement* g = list->FirstChildElement("Mesh"); g; g = g->NextSiblingElement("Mesh")) {
       const std::string frame = text(*g, "socket_frame");
-      if (!frame.empty() && frame != ".." && frame != "../" && lastComponent(frame) != lastComponent(owner.Attribute("name") ? owner.Attribute("name") : ""))
+      if (!frame.empty() && frame != ".." && frame != "../" && lastPathComponent(frame) != lastPathComponent(owner.Attribute("name") ? owner.Attribute("name") : ""))
         fail(g, "socket_frame '" + frame + "': a mesh must be attached to the frame that lists it");
       addMesh(*g, text(*g, "mesh_file"), X_BF, vec3(*g, "scale_factors", Eigen::Vector3d::Ones()), out.meshes);
     }
@@ -425,7 +341,7 @@ void OsimReader::readGeometry(const OsimBody& b, SkeletonBody& out) const {
          f = f->NextSiblingElement("PhysicalOffsetFrame")) {
       if (!child(*f, "attached_geometry")) continue;
       const std::string parent = text(*f, "socket_parent");
-      if (!(parent == ".." || parent == "../" || lastComponent(parent) == b.name))
+      if (!(parent == ".." || parent == "../" || lastPathComponent(parent) == b.name))
         fail(f, "a frame carrying geometry among a body's components must be attached to that body (socket_parent '..')");
       attached(*f, pose(vec3(*f, "translation", Eigen::Vector3d::Zero()), vec3(*f, "orientation", Eigen::Vector3d::Zero())));
     }
@@ -455,7 +371,7 @@ int OsimReader::addCoordinate(const XMLElement* element, const std::string& name
   c.motion = motion;
   c.joint = joint;
   if (element) {
-    const double scale = motion == CoordinateMotion::kTranslational ? to_mm_ : 1.0;
+    const double scale = motion == CoordinateMotion::kTranslational ? getLengthToMm() : 1.0;
     const auto range = numbers(*element, "range", 2, {-kInfinity, kInfinity});
     c.range_min = scale * range[0];
     c.range_max = scale * range[1];
@@ -490,7 +406,7 @@ ParsedFunction OsimReader::readFunction(const XMLElement& axis, const XMLElement
     if (!inner) fail(&function, "has no function to multiply");
     const std::string inner_type = inner->Name();
     if (inner_type != "LinearFunction" && inner_type != "Constant")
-      fail(inner, "in " + describe(axis) + ": a MultiplierFunction of a " + inner_type +
+      fail(inner, "in " + describeElement(axis) + ": a MultiplierFunction of a " + inner_type +
                       " couples its coordinate non-linearly; only LinearFunction and Constant (also inside a "
                       "MultiplierFunction) are supported");
     ParsedFunction g = readFunction(axis, *inner);
@@ -498,7 +414,7 @@ ParsedFunction OsimReader::readFunction(const XMLElement& axis, const XMLElement
     g.intercept *= scale;
     return g;
   }
-  fail(&function, "in " + describe(axis) + ": function type " + type +
+  fail(&function, "in " + describeElement(axis) + ": function type " + type +
                       " is not supported (expected LinearFunction or Constant, also inside a MultiplierFunction)");
 }
 
@@ -526,42 +442,71 @@ void OsimReader::readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescri
   }
   if (j.type != "CustomJoint")
     fail(&e, "joint type " + j.type + " is not supported (expected CustomJoint, PinJoint or WeldJoint)");
+  readCustomJoint(j, coordinates, out, d);
+}
 
-  out.joint_kind = JointKind::kSpatial;
-  const XMLElement* st = child(e, "SpatialTransform");
-  if (!st) fail(&e, "a CustomJoint needs a <SpatialTransform>");
-  static const char* const kAxisNames[6] = {"rotation1", "rotation2", "rotation3", "translation1", "translation2", "translation3"};
-  const XMLElement* axes[6] = {};
+std::array<const XMLElement*, 6> OsimReader::findTransformAxes(const XMLElement& joint) const {
+  const XMLElement* st = child(joint, "SpatialTransform");
+  if (!st) fail(&joint, "a CustomJoint needs a <SpatialTransform>");
+  std::array<const XMLElement*, 6> axes{};
   for (const XMLElement* a = st->FirstChildElement("TransformAxis"); a; a = a->NextSiblingElement("TransformAxis")) {
     const char* name = a->Attribute("name");
     int k = -1;
     for (int i = 0; i < 6; ++i)
       if (name && std::strcmp(name, kAxisNames[i]) == 0) k = i;
     if (k < 0) fail(a, "expected TransformAxis named rotation1, rotation2, rotation3, translation1, translation2 or translation3");
-    if (axes[k]) fail(a, std::string("a second TransformAxis ") + kAxisNames[k]);
-    axes[k] = a;
+    if (axes[static_cast<size_t>(k)]) fail(a, std::string("a second TransformAxis ") + kAxisNames[k]);
+    axes[static_cast<size_t>(k)] = a;
   }
   for (int i = 0; i < 6; ++i)
-    if (!axes[i]) fail(st, std::string("missing TransformAxis ") + kAxisNames[i]);
+    if (!axes[static_cast<size_t>(i)]) fail(st, std::string("missing TransformAxis ") + kAxisNames[i]);
+  return axes;
+}
 
-  // Each axis's function (3.x: inside <function>; 4.x: the axis's child named "function"),
-  // checked to be one the reader supports before anything else is said about the axis.
-  const XMLElement* functions[6] = {};
-  for (int i = 0; i < 6; ++i) {
-    const XMLElement& a = *axes[i];
-    if (const XMLElement* wrapper = child(a, "function")) functions[i] = wrapper->FirstChildElement();
-    if (!functions[i])
-      for (const XMLElement* c = a.FirstChildElement(); c && !functions[i]; c = c->NextSiblingElement())
-        if (std::strcmp(c->Name(), "coordinates") != 0 && std::strcmp(c->Name(), "axis") != 0) functions[i] = c;
-    if (functions[i]) readFunction(a, *functions[i]);
+const XMLElement* OsimReader::findAxisFunction(const XMLElement& axis) const {
+  const XMLElement* function = nullptr;
+  if (const XMLElement* wrapper = child(axis, "function")) function = wrapper->FirstChildElement();
+  if (!function)
+    for (const XMLElement* c = axis.FirstChildElement(); c && !function; c = c->NextSiblingElement())
+      if (std::strcmp(c->Name(), "coordinates") != 0 && std::strcmp(c->Name(), "axis") != 0) function = c;
+  if (function) readFunction(axis, *function);  // refuses an unsupported type before anything else is said
+  return function;
+}
+
+AxisFunction OsimReader::readAxisFunction(const XMLElement& axis, const XMLElement* function,
+                                          const std::string& coordinate) const {
+  AxisFunction f;
+  if (!function) {
+    if (!coordinate.empty()) fail(&axis, "names coordinate '" + coordinate + "' but has no function");
+    return f;
   }
+  const ParsedFunction parsed = readFunction(axis, *function);
+  f.slope = parsed.slope;
+  f.intercept = parsed.intercept;
+  if (parsed.linear && coordinate.empty())
+    fail(function, "in " + describeElement(axis) + ": a LinearFunction needs a coordinate, the axis names none");
+  if (!parsed.linear && !coordinate.empty())
+    fail(function, "in " + describeElement(axis) + ": names coordinate '" + coordinate +
+                       "' but its function is a Constant (the coordinate would move nothing)");
+  if (parsed.linear && f.slope == 0.0)
+    fail(function, "in " + describeElement(axis) + ": slope 0 (coordinate '" + coordinate + "' would move nothing)");
+  return f;
+}
+
+void OsimReader::readCustomJoint(const OsimJoint& j, const std::vector<std::pair<std::string, const XMLElement*>>& coordinates,
+                                 SkeletonBody& out, SkeletonDescription& d) const {
+  const XMLElement& e = *j.element;
+  out.joint_kind = JointKind::kSpatial;
+  const std::array<const XMLElement*, 6> axes = findTransformAxes(e);
+  std::array<const XMLElement*, 6> functions{};  // 3.x: inside <function>; 4.x: the axis's child
+  for (size_t i = 0; i < 6; ++i) functions[i] = findAxisFunction(*axes[i]);
 
   // Which axis each coordinate drives (at most one).
   std::map<std::string, int> driven_axis;
   std::vector<std::string> axis_coordinate(6);
   for (int i = 0; i < 6; ++i) {
-    const XMLElement& a = *axes[i];
-    const std::vector<std::string> names = words(text(a, "coordinates"));
+    const XMLElement& a = *axes[static_cast<size_t>(i)];
+    const std::vector<std::string> names = splitWords(text(a, "coordinates"));
     if (names.size() > 1)
       fail(&a, "is driven by " + std::to_string(names.size()) + " coordinates; at most one per axis is supported");
     const Eigen::Vector3d v = vec3(a, "axis", Eigen::Vector3d::Zero());
@@ -571,7 +516,7 @@ void OsimReader::readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescri
     const auto [it, inserted] = driven_axis.emplace(names[0], i);
     if (!inserted)
       fail(&a, "coordinate '" + names[0] + "' also drives TransformAxis " + kAxisNames[it->second] + " (line " +
-                   std::to_string(axes[it->second]->GetLineNum()) +
+                   std::to_string(axes[static_cast<size_t>(it->second)]->GetLineNum()) +
                    "): a coordinate coupled into two transform axes is not supported");
     axis_coordinate[static_cast<std::size_t>(i)] = names[0];
   }
@@ -579,73 +524,43 @@ void OsimReader::readJoint(const OsimJoint& j, SkeletonBody& out, SkeletonDescri
     for (int a = group; a < group + 3; ++a)
       for (int b = a + 1; b < group + 3; ++b)
         if (out.axes[static_cast<std::size_t>(a)].cross(out.axes[static_cast<std::size_t>(b)]).norm() < 1e-5)
-          fail(axes[b], std::string("axis is collinear with ") + kAxisNames[a] + "'s; the axes of a CustomJoint must be independent");
+          fail(axes[static_cast<size_t>(b)],
+               std::string("axis is collinear with ") + kAxisNames[a] + "'s; the axes of a CustomJoint must be independent");
 
   // Coordinates in the joint's order, then any an axis names without declaring.
   std::vector<std::pair<std::string, const XMLElement*>> ordered = coordinates;
-  for (int i = 0; i < 6; ++i) {
-    const std::string& name = axis_coordinate[static_cast<std::size_t>(i)];
-    if (name.empty()) continue;
-    if (std::none_of(ordered.begin(), ordered.end(), [&](const auto& c) { return c.first == name; }))
+  for (const std::string& name : axis_coordinate)
+    if (!name.empty() && std::none_of(ordered.begin(), ordered.end(), [&](const auto& c) { return c.first == name; }))
       ordered.emplace_back(name, nullptr);
-  }
   for (const auto& [name, element] : ordered) {
     const auto it = driven_axis.find(name);
     if (it == driven_axis.end())
-      fail(element, "coordinate '" + name + "' drives no TransformAxis of " + describe(e) + " (it would move nothing)");
-    const int index = addCoordinate(element, name, it->second < 3 ? CoordinateMotion::kRotational : CoordinateMotion::kTranslational,
-                                    j.name, d);
-    out.coordinates.push_back(index);
+      fail(element, "coordinate '" + name + "' drives no TransformAxis of " + describeElement(e) + " (it would move nothing)");
+    out.coordinates.push_back(addCoordinate(
+        element, name, it->second < 3 ? CoordinateMotion::kRotational : CoordinateMotion::kTranslational, j.name, d));
   }
 
-  for (int i = 0; i < 6; ++i) {
-    const XMLElement& a = *axes[i];
-    const XMLElement* function = functions[i];
-    const std::string& coordinate = axis_coordinate[static_cast<std::size_t>(i)];
-    AxisFunction f;
-    if (!function) {
-      if (!coordinate.empty()) fail(&a, "names coordinate '" + coordinate + "' but has no function");
-    } else {
-      const ParsedFunction parsed = readFunction(a, *function);
-      const bool linear = parsed.linear;
-      f.slope = parsed.slope;
-      f.intercept = parsed.intercept;
-      if (linear && coordinate.empty())
-        fail(function, "in " + describe(a) + ": a LinearFunction needs a coordinate, the axis names none");
-      if (!linear && !coordinate.empty())
-        fail(function, "in " + describe(a) + ": names coordinate '" + coordinate +
-                           "' but its function is a Constant (the coordinate would move nothing)");
-      if (linear && f.slope == 0.0)
-        fail(function, "in " + describe(a) + ": slope 0 (coordinate '" + coordinate + "' would move nothing)");
-    }
+  for (size_t i = 0; i < 6; ++i) {
+    const std::string& coordinate = axis_coordinate[i];
+    AxisFunction f = readAxisFunction(*axes[i], functions[i], coordinate);
     f.coordinate = -1;
     if (!coordinate.empty())
       for (int index : out.coordinates)
         if (d.coordinates[static_cast<std::size_t>(index)].name == coordinate) f.coordinate = index;
-    if (i >= 3) f.intercept *= to_mm_;  // translation values: model units → mm; slopes stay (mm per mm)
-    out.functions[static_cast<std::size_t>(i)] = f;
+    if (i >= 3) f.intercept *= getLengthToMm();  // translation values: model units → mm; slopes stay (mm per mm)
+    out.functions[i] = f;
   }
 }
 
-SkeletonDescription OsimReader::read(const std::string& xml_text) {
-  tinyxml2::XMLDocument doc;
-  if (doc.Parse(xml_text.data(), xml_text.size()) != tinyxml2::XML_SUCCESS)
-    throw ModelError("OpenSim model " + path_ + ", line " + std::to_string(doc.ErrorLineNum()) +
-                     ": not well-formed XML (" + doc.ErrorName() + ")");
-  const XMLElement* root = doc.RootElement();
-  const XMLElement* model = nullptr;
-  if (root && std::strcmp(root->Name(), "OpenSimDocument") == 0) model = child(*root, "Model");
-  else if (root && std::strcmp(root->Name(), "Model") == 0) model = root;
-  if (!model) fail(root, "expected <OpenSimDocument> holding a <Model>");
-
-  readUnits(*model);
+SkeletonDescription OsimReader::read() {
+  const XMLElement* model = &getModel();
   checkConstraints(*model);
   collectBodies(*model);
   collectJoints(*model);
 
   SkeletonDescription d;
-  d.name = model->Attribute("name") ? model->Attribute("name") : fs::path(path_).stem().string();
-  d.path = path_;
+  d.name = model->Attribute("name") ? model->Attribute("name") : fs::path(getPath()).stem().string();
+  d.path = getPath();
   d.format = "OpenSim model";
 
   // Each body but ground is the child of exactly one joint.
@@ -696,26 +611,10 @@ SkeletonDescription OsimReader::read(const std::string& xml_text) {
 
 }  // namespace
 
-SkeletonDescription readOsim(const std::string& path) {
-  const std::string problem = io::findInputFileProblem(path, "an OpenSim model file (.osim)");
-  if (problem.rfind("is ", 0) == 0) throw ModelError("OpenSim model " + path + ": it " + problem);
-  if (!problem.empty()) throw ModelError("OpenSim model " + path + ": cannot open the file (missing or unreadable)");
-  std::error_code ec;
-  const std::uintmax_t bytes = fs::file_size(path, ec);
-  if (bytes > kMaxOsimFileBytes)
-    throw ModelError("OpenSim model " + path + ": " + std::to_string(bytes) + " bytes, more than the " +
-                     std::to_string(kMaxOsimFileBytes) + " a model file may have");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw ModelError("OpenSim model " + path + ": cannot open the file (missing or unreadable)");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parseOsim(text, path);
-}
+SkeletonDescription readOsim(const std::string& path) { return OsimReader(path).read(); }
 
 SkeletonDescription parseOsim(const std::string& text, const std::string& path) {
-  if (text.size() > kMaxOsimFileBytes)
-    throw ModelError("OpenSim model " + path + ": " + std::to_string(text.size()) + " bytes, more than the " +
-                     std::to_string(kMaxOsimFileBytes) + " a model file may have");
-  return OsimReader(path).read(text);
+  return OsimReader(path, text).read();
 }
 
 }  // namespace rbfmuscle::detail

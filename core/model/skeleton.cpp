@@ -39,6 +39,49 @@ Eigen::Isometry3d pinAxisFrame(const Eigen::Vector3d& axis_J) {
   return toEigen(SimTK::Transform(R, SimTK::Vec3(0)));
 }
 
+/// The body's mass properties for Simbody. @throws ModelError naming the body when they are invalid.
+SimTK::Body::Rigid makeRigidBody(const detail::SkeletonDescription& d, const detail::SkeletonBody& link) {
+  try {
+    SimTK::Mat33 I;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) I(i, j) = link.inertia_B_kgmm2(i, j);
+    const Eigen::Vector3d& c = link.com_B_mm;
+    return SimTK::Body::Rigid(SimTK::MassProperties(link.mass_kg, SimTK::Vec3(c.x(), c.y(), c.z()), SimTK::Inertia(I)));
+  } catch (const std::exception& e) {
+    throw ModelError(d.format + " " + d.path + ": " + (d.format == "URDF" ? "link '" : "body '") + link.name +
+                     "' has invalid mass properties (mass must be positive, inertia a valid "
+                     "symmetric inertia matrix): " + e.what());
+  }
+}
+
+/// A spatial joint with coordinates as OpenSim builds a CustomJoint: one FunctionBased mobilizer
+/// whose six functions (three rotations, three translations) take the joint's coordinates as
+/// arguments, in the order of link.coordinates.
+SimTK::MobilizedBodyIndex addFunctionBased(SimTK::MobilizedBody& parent, const SimTK::Body::Rigid& body,
+                                           const detail::SkeletonBody& link) {
+  std::vector<const SimTK::Function*> functions;
+  std::vector<std::vector<int>> arguments;
+  std::vector<SimTK::Vec3> axes;
+  for (int i = 0; i < 6; ++i) {
+    const detail::AxisFunction& f = link.functions[i];
+    axes.emplace_back(link.axes[i].x(), link.axes[i].y(), link.axes[i].z());
+    if (f.coordinate < 0) {
+      functions.push_back(new SimTK::Function::Constant(f.intercept, 0));
+      arguments.emplace_back();
+    } else {
+      SimTK::Vector coefficients(2);
+      coefficients[0] = f.slope;
+      coefficients[1] = f.intercept;
+      functions.push_back(new SimTK::Function::Linear(coefficients));
+      const auto k = std::find(link.coordinates.begin(), link.coordinates.end(), f.coordinate) - link.coordinates.begin();
+      arguments.push_back({static_cast<int>(k)});
+    }
+  }
+  return SimTK::MobilizedBody::FunctionBased(parent, toSimTK(link.X_PF), body, toSimTK(link.X_BM),
+                                             static_cast<int>(link.coordinates.size()), functions, arguments, axes)
+      .getMobilizedBodyIndex();
+}
+
 }  // namespace
 
 struct Skeleton::Impl {
@@ -83,26 +126,12 @@ Skeleton Skeleton::fromFile(const std::string& path) {
 
 Skeleton Skeleton::build(detail::SkeletonDescription d) {
   auto impl = std::make_unique<Impl>();
-  const std::string& path = d.path;
   for (const auto& c : d.coordinates) impl->coordinate_names.push_back(c.name);
   impl->coordinate_mobod.resize(d.coordinates.size());
   impl->coordinate_q.assign(d.coordinates.size(), 0);
 
   for (const detail::SkeletonBody& link : d.bodies) {
-    SimTK::Body::Rigid body;
-    try {
-      SimTK::Mat33 I;
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) I(i, j) = link.inertia_B_kgmm2(i, j);
-      const Eigen::Vector3d& c = link.com_B_mm;
-      body = SimTK::Body::Rigid(SimTK::MassProperties(
-          link.mass_kg, SimTK::Vec3(c.x(), c.y(), c.z()), SimTK::Inertia(I)));
-    } catch (const std::exception& e) {
-      throw ModelError(d.format + " " + path + ": " + (d.format == "URDF" ? "link '" : "body '") + link.name +
-                       "' has invalid mass properties (mass must be positive, inertia a valid "
-                       "symmetric inertia matrix): " + e.what());
-    }
-
+    const SimTK::Body::Rigid body = makeRigidBody(d, link);
     SimTK::MobilizedBody& parent =
         link.parent < 0 ? static_cast<SimTK::MobilizedBody&>(impl->matter.updGround())
                         : impl->matter.updMobilizedBody(impl->body_mobod[link.parent]);
@@ -134,30 +163,7 @@ Skeleton Skeleton::build(detail::SkeletonDescription d) {
                       .getMobilizedBodyIndex();
           break;
         }
-        // As OpenSim builds a CustomJoint: one FunctionBased mobilizer whose six functions
-        // (three rotations, three translations) take the joint's coordinates as arguments.
-        std::vector<const SimTK::Function*> functions;
-        std::vector<std::vector<int>> arguments;
-        std::vector<SimTK::Vec3> axes;
-        for (int i = 0; i < 6; ++i) {
-          const detail::AxisFunction& f = link.functions[i];
-          axes.emplace_back(link.axes[i].x(), link.axes[i].y(), link.axes[i].z());
-          if (f.coordinate < 0) {
-            functions.push_back(new SimTK::Function::Constant(f.intercept, 0));
-            arguments.emplace_back();
-          } else {
-            SimTK::Vector coefficients(2);
-            coefficients[0] = f.slope;
-            coefficients[1] = f.intercept;
-            functions.push_back(new SimTK::Function::Linear(coefficients));
-            const auto k = std::find(link.coordinates.begin(), link.coordinates.end(), f.coordinate) -
-                           link.coordinates.begin();
-            arguments.push_back({static_cast<int>(k)});
-          }
-        }
-        index = SimTK::MobilizedBody::FunctionBased(parent, toSimTK(link.X_PF), body, toSimTK(link.X_BM), n,
-                                                    functions, arguments, axes)
-                    .getMobilizedBodyIndex();
+        index = addFunctionBased(parent, body, link);
         for (int k = 0; k < n; ++k) {
           impl->coordinate_mobod[link.coordinates[k]] = index;
           impl->coordinate_q[link.coordinates[k]] = k;
@@ -176,7 +182,7 @@ Skeleton Skeleton::build(detail::SkeletonDescription d) {
   } catch (const std::exception& e) {
     std::string why = e.what();  // Simbody's text spans lines: one line for the error message
     std::replace(why.begin(), why.end(), '\n', ' ');
-    throw ModelError(d.format + " " + path + ": Simbody cannot build the skeleton: " + why);
+    throw ModelError(d.format + " " + d.path + ": Simbody cannot build the skeleton: " + why);
   }
   impl->state = impl->system.getDefaultState();
   impl->q_rad = Eigen::VectorXd::Zero(static_cast<Eigen::Index>(d.coordinates.size()));

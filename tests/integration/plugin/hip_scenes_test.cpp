@@ -2,8 +2,14 @@
 /// The hip scenes (gluteus maximus, iliacus and psoas major on the subject's own pelvis), run
 /// through the host as the README does, with their frame meshes. At every frame, for every
 /// muscle: finite outputs, the volume held, and every tracked surface vertex at most 0.5 mm
-/// inside the femur, the ilium or the sacrum (exact distance to the posed meshes); for the
-/// gluteus and the iliacus also every fibre point inside. In the main job (flexion 0→80° in 1°
+/// inside the femur, the ilium or the sacrum (exact distance to the posed meshes), and every
+/// fibre end within 0.5 mm of its place on its bone; for the gluteus and the iliacus also every
+/// fibre point inside, and in flexion, adduction and gait the gluteus's tracked surface in one
+/// piece (also the iliacus's in gait). Where a muscle lies on a bone its tracked vertices find no
+/// surface and their triangles are dropped, which cuts the tracked mesh of the iliacus and the
+/// psoas in flexion and of the gluteus in two frames of the rotation; the pieces are printed.
+/// The gluteus also flexes to 120°, with the same checks but the jump and the pieces: beyond
+/// 97° it lies on the femur and its tracked surface falls in 2–4 pieces (disabled test). In the main job (flexion 0→80° in 1°
 /// frames) also: the gluteus's fibres lengthen and the iliacus's shorten at every frame, and no
 /// part of the gluteus's surface is further from the previous frame's surface than the femur
 /// moves there plus 1 mm. What does not hold yet is measured and printed here and asserted in the
@@ -17,6 +23,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <memory>
 #include <string>
 #include <vector>
@@ -64,8 +71,32 @@ FrameGeometry readFrame(const fs::path& meshes, const std::string& muscle, int f
   return readVtp((meshes / (muscle + file)).string());
 }
 
+/// Pieces of the surface a frame mesh's triangles make (vertices joined by an edge).
+int countPieces(const FrameGeometry& g) {
+  std::vector<int> parent(static_cast<size_t>(g.vertices_mm.cols()));
+  for (size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
+  const auto find = [&](int v) {
+    while (parent[static_cast<size_t>(v)] != v) v = parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
+    return v;
+  };
+  for (Eigen::Index t = 0; t < g.triangles.cols(); ++t)
+    for (int c = 1; c < 3; ++c) parent[static_cast<size_t>(find(g.triangles(c, t)))] = find(g.triangles(0, t));
+  const std::vector<char> used = findUsed(g);
+  std::vector<char> is_root(parent.size(), 0);
+  int pieces = 0;
+  for (size_t v = 0; v < parent.size(); ++v) {
+    char& seen = is_root[static_cast<size_t>(find(static_cast<int>(v)))];
+    if (used[v] && !seen) seen = 1, ++pieces;
+  }
+  return pieces;
+}
+
 /// What a scene's check asserts beyond the every-frame checks, per muscle.
 struct SceneChecks {
+  std::vector<std::string> muscles = kMuscles;                      ///< the muscles checked
+  /// tracked surface in one piece (where a muscle lies on a bone, its vertices there find no
+  /// surface and their triangles are dropped, which can cut the tracked mesh; see SurfaceStage)
+  std::vector<std::string> one_piece;
   std::vector<std::string> fibres_inside{"glmax_r", "iliacus_r"};  ///< every fibre point inside
   std::vector<std::string> fibres_monotone;  ///< the gluteus lengthens, the others shorten
   std::vector<std::string> jump_checked;     ///< surface jumps asserted
@@ -75,13 +106,17 @@ bool holds(const std::vector<std::string>& muscles, const std::string& muscle) {
   return std::find(muscles.begin(), muscles.end(), muscle) != muscles.end();
 }
 
-/// Runs `scene` (models/hip/SCENE.xml with `motion`) and checks every frame (file comment).
+/// Runs `scene` (models/hip/SCENE.xml with `motion_path`, absolute or in models/hip/motions)
+/// and checks every frame (file comment).
 void checkScene(const std::string& scene, const std::string& motion_file, const SceneChecks& checks) {
+  const fs::path motion_path = fs::path(motion_file).is_absolute() ? fs::path(motion_file) : kHip / "motions" / motion_file;
   const std::string tag = scene + "_" + std::to_string(::getpid());
   const fs::path out = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin" / tag;
   fs::remove_all(out);
   const test::HostResult result = test::runHost(
-      "run '" + (kHip / (scene + ".xml")).string() + "' -o '" + out.string() + "' --quiet --frames-mesh", "plugin", tag);
+      "run '" + (kHip / (scene + ".xml")).string() + "' -o '" + out.string() + "' --motion '" + motion_path.string() +
+          "' --quiet --frames-mesh",
+      "plugin", tag);
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const StorageTable table = readStorage((out / "outputs.sto").string());
   const auto column = [&](const std::string& label) {
@@ -92,7 +127,7 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
 
   // The bones as the scene poses them: pelvis fixed (CT frame), femur by the skeleton.
   Skeleton skeleton = Skeleton::fromUrdf((kHip / "hip_r.urdf").string());
-  const Motion motion = Motion::fromFile((kHip / "motions" / motion_file).string(), skeleton);
+  const Motion motion = Motion::fromFile(motion_path.string(), skeleton);
   ASSERT_EQ(static_cast<int>(table.rows.size()), motion.getNumFrames());
   const int femur_body = skeleton.findBodyIndex("femur_r");
   const Bone femur("femur_r"), ilium("pelvis_iliac_r"), sacrum("pelvis_sacrum");
@@ -104,28 +139,39 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
     femur_motion.push_back(skeleton.getBodyTransform(femur_body) * X_GF_rest.inverse());
   }
 
-  for (const std::string& muscle : kMuscles) {
+  for (const std::string& muscle : checks.muscles) {
     const size_t volume = column(muscle + ".volume_ratio"), outside = column(muscle + ".fibre_points_outside");
+    const size_t end_offset = column(muscle + ".fibre_end_offset_max_mm");
     const size_t fibre = column(muscle + ".fibre_length_ratio");
     double worst_depth = 0.0, worst_jump = -1e9;
     int worst_depth_frame = 0, worst_jump_frame = 0;
     double most_outside = 0.0;
+    int most_pieces = 0;
     std::unique_ptr<MeshDistance> previous;  // the previous frame's surface
     std::vector<char> previous_used;
     for (size_t row = 0; row < table.rows.size(); ++row) {
       const std::vector<double>& r = table.rows[row];
       for (size_t c = 0; c < r.size(); ++c)
-        if (table.column_labels[c].rfind(muscle + ".", 0) == 0)
+        if (table.column_labels[c].rfind(muscle + ".", 0) == 0) {
           EXPECT_TRUE(std::isfinite(r[c])) << table.column_labels[c] << " frame " << row;
+        }
       EXPECT_NEAR(r[volume], 1.0, 2e-3) << muscle << " frame " << row;
+      EXPECT_LE(r[end_offset], 0.5) << muscle << ": a fibre end left its place on its bone at frame " << row;
       most_outside = std::max(most_outside, r[outside]);
-      if (holds(checks.fibres_inside, muscle)) EXPECT_EQ(r[outside], 0.0) << muscle << " fibre points outside at frame " << row;
+      if (holds(checks.fibres_inside, muscle)) {
+        EXPECT_EQ(r[outside], 0.0) << muscle << " fibre points outside at frame " << row;
+      }
       if (holds(checks.fibres_monotone, muscle) && row > 0) {
         if (muscle == "glmax_r") EXPECT_GT(r[fibre], table.rows[row - 1][fibre]) << muscle << " lengthens, frame " << row;
         else EXPECT_LT(r[fibre], table.rows[row - 1][fibre]) << muscle << " shortens, frame " << row;
       }
       const FrameGeometry g = readFrame(out / "meshes", muscle, static_cast<int>(row));
       const std::vector<char> used = findUsed(g);
+      const int pieces = countPieces(g);
+      most_pieces = std::max(most_pieces, pieces);
+      if (holds(checks.one_piece, muscle)) {
+        EXPECT_EQ(pieces, 1) << muscle << "'s tracked surface at frame " << row;
+      }
       const Eigen::Isometry3d X_FG = femur_motion[row].inverse();
       const Eigen::Isometry3d femur_step = row > 0 ? femur_motion[row] * femur_motion[row - 1].inverse()
                                                    : Eigen::Isometry3d::Identity();
@@ -154,11 +200,14 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
       previous_used = used;
     }
     std::printf("%s %s: deepest tracked vertex in a bone %.3f mm (frame %d); worst jump beyond the femur's move + 1 mm "
-                "%.3f mm (frame %d); fibre length ratio at the last frame %.3f; most fibre points outside %.0f\n",
+                "%.3f mm (frame %d); fibre length ratio at the last frame %.3f; most fibre points outside %.0f; most pieces of "
+                "the tracked surface %d\n",
                 scene.c_str(), muscle.c_str(), worst_depth, worst_depth_frame, worst_jump, worst_jump_frame,
-                table.rows.back()[fibre], most_outside);
+                table.rows.back()[fibre], most_outside, most_pieces);
     EXPECT_LE(worst_depth, 0.5) << muscle << " at frame " << worst_depth_frame;
-    if (holds(checks.jump_checked, muscle)) EXPECT_LE(worst_jump, 0.0) << muscle << " at frame " << worst_jump_frame;
+    if (holds(checks.jump_checked, muscle)) {
+      EXPECT_LE(worst_jump, 0.0) << muscle << " at frame " << worst_jump_frame;
+    }
   }
   fs::remove_all(out);
 }
@@ -167,11 +216,14 @@ TEST(HipScenes, FlexionKeepsVolumeAndTheMusclesOutOfTheBonesGluteusLengthensIlia
   SceneChecks checks;
   checks.fibres_monotone = {"glmax_r", "iliacus_r"};
   checks.jump_checked = {"glmax_r"};
+  checks.one_piece = {"glmax_r"};
   checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
 }
 
 TEST(HipScenes, AdductionKeepsVolumeAndTheMusclesOutOfTheBonesEveryFrame) {
-  checkScene("hip_adduction", "hip_adduction_0_30.mot", SceneChecks{});
+  SceneChecks checks;
+  checks.one_piece = {"glmax_r"};
+  checkScene("hip_adduction", "hip_adduction_0_30.mot", checks);
 }
 
 TEST(HipScenes, RotationKeepsVolumeAndTheMusclesOutOfTheBonesEveryFrame) {
@@ -179,7 +231,34 @@ TEST(HipScenes, RotationKeepsVolumeAndTheMusclesOutOfTheBonesEveryFrame) {
 }
 
 TEST(HipScenes, GaitKeepsVolumeAndTheMusclesOutOfTheBonesEveryFrame) {
-  checkScene("hip_gait", "gait_cycle.mot", SceneChecks{});
+  SceneChecks checks;
+  checks.one_piece = {"glmax_r", "iliacus_r"};
+  checkScene("hip_gait", "gait_cycle.mot", checks);
+}
+
+/// Flexion 0 → 120° in 1° frames, written beside the test's output.
+std::string writeFlexionTo120() {
+  const fs::path motion = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin/hip_flexion_0_120.mot";
+  fs::create_directories(motion.parent_path());
+  std::ofstream mot(motion);
+  mot << "hip_flexion_0_120\nversion=1\nnRows=121\nnColumns=2\ninDegrees=yes\nendheader\ntime\thip_flexion_r\n";
+  for (int degree = 0; degree <= 120; ++degree) mot << degree / 30.0 << '\t' << degree << '\n';
+  return motion.string();
+}
+
+TEST(HipScenes, GluteusFlexedTo120DegreesKeepsVolumeFibresInsideAndOutOfTheBones) {
+  SceneChecks checks;
+  checks.muscles = {"glmax_r"};
+  checks.fibres_monotone = {"glmax_r"};
+  checkScene("hip_flexion", writeFlexionTo120(), checks);
+}
+
+TEST(HipScenes, DISABLED_GluteusBeyond97DegreesLosesTrianglesOnTheFemurIn2To4PiecesAndJumps0point5mm) {
+  SceneChecks checks;
+  checks.muscles = {"glmax_r"};
+  checks.jump_checked = {"glmax_r"};
+  checks.one_piece = {"glmax_r"};
+  checkScene("hip_flexion", writeFlexionTo120(), checks);
 }
 
 TEST(HipScenes, DISABLED_FlexionIliacusAndPsoasJumpUpTo2mmBeyondTheFemursMoveBesideTheirBoneContactPatches) {

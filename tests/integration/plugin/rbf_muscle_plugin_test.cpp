@@ -78,11 +78,14 @@ TEST(RBFMusclePlugin, GluteusFollowsFlexionWithVolumeKept) {
   for (size_t i = 0; i < table.rows.size(); ++i) {
     const std::vector<double>& row = table.rows[i];
     for (size_t c = 0; c < row.size(); ++c)
-      if (table.column_labels[c].find("surface") == std::string::npos)  // the surface is tracked with --frames-mesh only
+      if (table.column_labels[c].find("surface") == std::string::npos) {  // the surface is tracked with --frames-mesh only
         EXPECT_TRUE(std::isfinite(row[c])) << table.column_labels[c] << " row " << i;
+      }
     EXPECT_NEAR(row[ratio], 1.0, 1e-3);
     EXPECT_EQ(row[outside], 0.0);
-    if (i > 0) EXPECT_GT(row[fibre], table.rows[i - 1][fibre]) << "the gluteus lengthens in flexion, row " << i;
+    if (i > 0) {
+      EXPECT_GT(row[fibre], table.rows[i - 1][fibre]) << "the gluteus lengthens in flexion, row " << i;
+    }
   }
   EXPECT_GT(table.rows.back()[table.findColumn("glmax_r.attached_kernels")], 0);
   // The host's summary gives the median and maximum of each reported time over the frames.
@@ -127,7 +130,7 @@ TEST(RBFMusclePlugin, A75DegreeJumpWithoutVolumeCorrectionFailsUnderStrict) {
   const fs::path dir = testDir("jump_strict");
   const fs::path motion = fs::path(RBFMUSCLE_SOURCE_DIR) / "tests/integration/plugin/data/jump_flexion_75.mot";
   const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
-                                         "' --quiet --strict --set glmax_r.volume_max_correction=1e-6 --motion '" +
+                                         "' --quiet --strict --set glmax_r/volume.max_correction=1e-6 --motion '" +
                                          motion.string() + "'",
                                      "plugin", "jump_strict");
   EXPECT_EQ(r.exit_code, 1) << r.err;
@@ -150,7 +153,9 @@ TEST(RBFMusclePlugin, RunsOnOneAndTwoThreadsGiveIdenticalOutputs) {
     const std::string& label = a.column_labels[c];
     if (label.size() > 3 && label.compare(label.size() - 3, 3, "_ms") == 0) continue;  // wall times
     for (std::size_t i = 0; i < a.rows.size(); ++i)  // NaN (a stage that did not run) equals NaN here
-      if (!(std::isnan(a.rows[i][c]) && std::isnan(b.rows[i][c]))) EXPECT_EQ(a.rows[i][c], b.rows[i][c]) << label << " row " << i;
+      if (!(std::isnan(a.rows[i][c]) && std::isnan(b.rows[i][c]))) {
+        EXPECT_EQ(a.rows[i][c], b.rows[i][c]) << label << " row " << i;
+      }
   }
 }
 
@@ -196,6 +201,34 @@ TEST(RBFMusclePlugin, AFormerPropertyNameIsRefusedListingTheCurrentOnes) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("max_surface_step_mm"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("origin_area"), std::string::npos) << "lists the properties there are:\n" << r.err;
+}
+
+TEST(RBFMusclePlugin, StageSettingsAreSubcomponentsSetInTheFileOrOnTheCommandLine) {
+  const fs::path dir = testDir("subcomponents");
+  const fs::path model = writeModel(dir, kCachedGluteus);
+  // From the command line: 7 fibres of 4 segments, one fibre_length_mm column each.
+  const HostResult r = test::runHost("run '" + model.string() + "' -o '" + (dir / "out").string() +
+                                         "' --quiet --motion '" + (kHip / "motions/hip_flexion_0_80_step10.mot").string() +
+                                         "' --set glmax_r/fibres.count=7 --set glmax_r/fibres.segments=4",
+                                     "plugin", "subcomponents");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const StorageTable table = readStorage((dir / "out/outputs.sto").string());
+  EXPECT_GE(table.findColumn("glmax_r.fibre_length_mm_6"), 0);
+  EXPECT_LT(table.findColumn("glmax_r.fibre_length_mm_7"), 0);
+  // The former flat property is refused, saying how to write it now.
+  const HostResult former = test::runHost("run '" + model.string() + "' -o '" + (dir / "out2").string() +
+                                              "' --quiet --set glmax_r.fibres=50",
+                                          "plugin", "subcomponents_former");
+  EXPECT_EQ(former.exit_code, 1);
+  EXPECT_NE(former.err.find("'fibres' is a subcomponent: give its properties inside, as <fibres><PROPERTY>value</PROPERTY>"
+                            "</fibres> (its properties: count, segments)"),
+            std::string::npos)
+      << former.err;
+  const HostResult range = test::runHost("run '" + model.string() + "' -o '" + (dir / "out3").string() +
+                                             "' --quiet --set glmax_r/descent.iterations=-1",
+                                         "plugin", "subcomponents_range");
+  EXPECT_EQ(range.exit_code, 1);
+  EXPECT_NE(range.err.find("property 'iterations': value -1 is outside the allowed range"), std::string::npos) << range.err;
 }
 
 TEST(RBFMusclePlugin, SurfaceFileLeavingTheModelDirectoryIsRefusedAndNothingIsWritten) {

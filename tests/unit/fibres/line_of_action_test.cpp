@@ -33,7 +33,7 @@ TEST(LineOfAction, ViaPointsGoToTheNearestBone) {
 TEST(LineOfAction, LengthOfAMovedPathIsAnalytic) {
   Eigen::Matrix3Xd p(3, 3);
   p << -30, 0, 30, 0, 5, 0, 0, 0, 0;
-  const ViaPointPath path{p, {0, 0, 1}};
+  const ViaPointPath path{p, {0, 0, 1}, {}};
   EXPECT_NEAR(calcPathLength(path, {Eigen::Isometry3d::Identity(), Eigen::Isometry3d::Identity()}),
               2 * std::sqrt(900.0 + 25.0), 1e-12);
   // Bone 1 turned 90° about z through the origin: (30,0,0) → (0,30,0); via point stays.
@@ -45,9 +45,23 @@ TEST(LineOfAction, LengthOfAMovedPathIsAnalytic) {
   EXPECT_NEAR(calcPathLength(path, {x, x}), 2 * std::sqrt(925.0), 1e-9);
 }
 
+TEST(LineOfAction, ConditionalPointIsOnThePathOnlyWithinItsRange) {
+  Eigen::Matrix3Xd p(3, 3);
+  p << -30, 0, 30, 0, 5, 0, 0, 0, 0;
+  const ViaPointPath path{p, {0, 0, 1}, {{-1, 0, 0}, {1, 0.0, 0.5}, {-1, 0, 0}}};
+  const std::vector<Eigen::Isometry3d> rest(2, Eigen::Isometry3d::Identity());
+  EXPECT_NEAR(calcPathLength(path, rest, Eigen::Vector2d(9.0, 0.25)), 2 * std::sqrt(925.0), 1e-12);
+  EXPECT_NEAR(calcPathLength(path, rest, Eigen::Vector2d(9.0, 0.5)), 2 * std::sqrt(925.0), 1e-12);  // range closed
+  EXPECT_NEAR(calcPathLength(path, rest, Eigen::Vector2d(9.0, 0.51)), 60.0, 1e-12);
+  EXPECT_THROW(calcPathLength(path, rest, Eigen::VectorXd::Zero(1)), std::invalid_argument);  // no coordinate 1
+  ViaPointPath short_conditions = path;
+  short_conditions.conditions.pop_back();
+  EXPECT_THROW(calcPathLength(short_conditions, rest, Eigen::Vector2d(0, 0)), std::invalid_argument);
+}
+
 TEST(LineOfAction, BadInputIsRefused) {
   EXPECT_THROW(makeViaPointPath(Eigen::Matrix3Xd::Zero(3, 1), 0, 1, {}), std::invalid_argument);
-  const ViaPointPath path{Eigen::Matrix3Xd::Zero(3, 2), {0, 3}};
+  const ViaPointPath path{Eigen::Matrix3Xd::Zero(3, 2), {0, 3}, {}};
   EXPECT_THROW(calcPathLength(path, {Eigen::Isometry3d::Identity()}), std::invalid_argument);
 }
 

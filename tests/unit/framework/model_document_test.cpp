@@ -116,8 +116,30 @@ TEST(ModelDocument, ComponentElementErrors) {
       [&] { parse(head + "<A name=\"x\">\n<k>1</k>\n<k>2</k></A></components></RBFMuscleModel>"); },
       "/m/scene.xml:7: <k> in <A name=\"x\">: given twice"));
   EXPECT_TRUE(throwsWith(
-      [&] { parse(head + "<A name=\"x\">\n<k><v/></k></A></components></RBFMuscleModel>"); },
-      "/m/scene.xml:6: <k> in <A name=\"x\">: expected text only, found child element <v>"));
+      [&] { parse(head + "<A name=\"x\">\n<socket_k><v/></socket_k></A></components></RBFMuscleModel>"); },
+      "/m/scene.xml:6: <socket_k> in <A name=\"x\">: expected text only, found child element <v>"));
+  EXPECT_TRUE(throwsWith(
+      [&] { parse(head + "<A name=\"x\">\n<k><v>1</v><v>2</v></k></A></components></RBFMuscleModel>"); },
+      "/m/scene.xml:6: <v> in <k>: given twice"));
+}
+
+TEST(ModelDocument, ElementsHoldingElementsAreSubcomponents) {
+  const ModelDocument doc = parse(std::string(kHead) +
+                                  "<components>\n<A name=\"x\"><p>1</p>\n<filter>\n<order>2</order>\n"
+                                  "<band><low>3</low></band></filter></A></components></RBFMuscleModel>");
+  ASSERT_EQ(doc.components.size(), 1u);
+  const ComponentSpec& a = doc.components[0];
+  ASSERT_EQ(a.properties.size(), 1u);
+  ASSERT_EQ(a.subcomponents.size(), 1u);
+  const ComponentSpec& filter = a.subcomponents[0];
+  EXPECT_EQ(filter.name, "filter");
+  EXPECT_EQ(filter.location.line, 6);
+  ASSERT_EQ(filter.properties.size(), 1u);
+  EXPECT_EQ(filter.properties[0].name, "order");
+  EXPECT_EQ(filter.properties[0].text, "2");
+  EXPECT_EQ(filter.properties[0].location.line, 7);
+  ASSERT_EQ(filter.subcomponents.size(), 1u);
+  EXPECT_EQ(filter.subcomponents[0].properties[0].text, "3");
 }
 
 TEST(ModelDocument, ModelPathThatIsADeviceOrDirectoryIsRefusedWithoutReading) {

@@ -94,6 +94,42 @@ TEST(CreateComponents, ErrorsNameFileLineElementAndCulprit) {
       "(ToyComponent has sockets: socket_body)"));
 }
 
+TEST(CreateComponents, SubcomponentPropertiesComeFromTheirElement) {
+  Registry registry;
+  registry.addType<test::ToyFiltered>("ToyFiltered", "toy with a subcomponent");
+  const auto components = createComponents(
+      document("<ToyFiltered name=\"f\"><gain>2</gain>\n<filter><order>4</order></filter></ToyFiltered>\n"
+               "<ToyFiltered name=\"g\"/>\n"),
+      registry);
+  const auto& f = dynamic_cast<const test::ToyFiltered&>(*components[0]);
+  EXPECT_EQ(f.gain.get(), 2.0);
+  EXPECT_EQ(f.filter.order.get(), 4);
+  EXPECT_EQ(f.filter.cutoff_hz.get(), 6.0);
+  EXPECT_EQ(f.filter.getSourceLocation().line, 6);
+  ASSERT_EQ(f.getSubcomponents().size(), 1u);
+  EXPECT_EQ(f.findSubcomponent("filter"), &f.filter);
+  EXPECT_EQ(dynamic_cast<const test::ToyFiltered&>(*components[1]).filter.order.get(), 2);  // defaults
+
+  EXPECT_TRUE(throwsWith(
+      [&] { createComponents(document("<ToyFiltered name=\"f\">\n<filter><order>5</order></filter></ToyFiltered>"), registry); },
+      "/m/scene.xml:6: <filter> in <ToyFiltered name=\"f\">: property 'order': value 5 is outside the allowed range [1, 4]"));
+  EXPECT_TRUE(throwsWith(
+      [&] { createComponents(document("<ToyFiltered name=\"f\">\n<filter><oder>3</oder></filter></ToyFiltered>"), registry); },
+      "/m/scene.xml:6: <oder> in <filter>: unknown property 'oder' (filter has properties: order, cutoff_hz"));
+  EXPECT_TRUE(throwsWith(
+      [&] { createComponents(document("<ToyFiltered name=\"f\">\n<filtre><order>3</order></filtre></ToyFiltered>"), registry); },
+      "/m/scene.xml:6: <filtre> in <ToyFiltered name=\"f\">: unknown subcomponent <filtre> (ToyFiltered has "
+      "subcomponents: <filter>; properties: gain)"));
+  EXPECT_TRUE(throwsWith(
+      [&] { createComponents(document("<ToyFiltered name=\"f\">\n<filter>3</filter></ToyFiltered>"), registry); },
+      "'filter' is a subcomponent: give its properties inside, as <filter><PROPERTY>value</PROPERTY></filter> "
+      "(its properties: order, cutoff_hz)"));
+  const std::string described = registry.describeType(*registry.findType("ToyFiltered"));
+  EXPECT_NE(described.find("  <filter>: toy low-pass filter\n    filter/order (int, default 2, range [1, 4]): filter order"),
+            std::string::npos)
+      << described;
+}
+
 TEST(ConnectSockets, ResolvesBodiesAndComponentsByNameOrListsCandidates) {
   const Registry registry = toyRegistry();
   auto components = createComponents(

@@ -3,6 +3,7 @@
 /// socket kind, scalar and vector outputs.
 #include "framework/component.h"
 #include "framework/registry.h"
+#include "framework/subcomponent.h"
 
 #include <Eigen/Core>
 
@@ -42,6 +43,22 @@ class ToyReader final : public Component {
 
  private:
   double value_ = 0;
+};
+
+/// Settings of a ToyFiltered, as a subcomponent `<filter>`.
+class ToyFilterSettings final : public Subcomponent {
+ public:
+  explicit ToyFilterSettings(Component* owner) : Subcomponent(owner, "filter", "toy low-pass filter") {}
+  Property<int> order{this, "order", 2, "filter order", PropertyRange{1, 4}};
+  Property<double> cutoff_hz{this, "cutoff_hz", 6.0, "cut-off frequency (Hz)"};
+};
+
+/// A component with one property and a subcomponent.
+class ToyFiltered final : public Component {
+ public:
+  Property<double> gain{this, "gain", 1.0, "gain"};
+  ToyFilterSettings filter{this};
+  void update(const FrameState&) override {}
 };
 
 inline void registerToyTypes(Registry& registry) {

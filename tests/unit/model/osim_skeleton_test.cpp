@@ -345,7 +345,7 @@ TEST(OsimErrors, RefusedConstructsNameTheElementAndLine) {
                    {path("fuzz_geometry_name_too_long.osim") + ", line 16: <DisplayGeometry>: geometry file '",
                     "not found (looked for "});
   expectModelError([] { Skeleton::fromOsim("/nonexistent/model.osim"); },
-                   {"OpenSim model /nonexistent/model.osim: cannot open the file"});
+                   {"OpenSim model /nonexistent/model.osim: cannot open it: no such file"});
   test::TempFile broken("broken.osim");
   broken.write("<?xml version=\"1.0\"?>\n<OpenSimDocument Version=\"30000\">\n<Model name=\"m\">\n<BodySet>\n");
   expectModelError([&] { Skeleton::fromOsim(broken.path()); }, {broken.path() + ", line ", "not well-formed XML"});

@@ -1,0 +1,113 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: Apache-2.0
+"""Moment arms of the hip scenes' muscles over their motion, against their lines of action.
+
+Runs each scene once through build/bin/rbfmuscle with every muscle's `moment_arms` set to the
+scene's coordinate (a central difference that re-runs each frame at q ± 0.01 rad), then draws per
+muscle the mean over fibres, the range of the middle 80 % of fibres and the line of action's moment
+arm against the angle (docs/pictures/moment_arms_<scene>.png), and writes a table of the values at
+a few angles into README.md between the "moment arms" markers. Moment arms follow OpenSim's sign:
+r = −∂l/∂q, mm per rad (positive: the muscle shortens as the angle grows).
+
+Usage: /usr/bin/python3 scripts/moment_arms.py [--scenes hip_flexion:hip_flexion_r,...] [--no-write]
+Needs python3-numpy and python3-matplotlib (Debian) and a built host.
+"""
+import argparse
+import csv
+import os
+import subprocess
+import tempfile
+
+import numpy as np
+
+from readme_section import replace_readme_section
+
+ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
+HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
+MUSCLES = ["glmax_r", "iliacus_r", "psoas_r"]
+TABLE_FRAMES = 5  # evenly spaced over the motion
+
+
+def run_scene(scene, coordinate, out_root):
+    out = os.path.join(out_root, scene)
+    sets = []
+    for m in MUSCLES:
+        sets += ["--set", f"{m}.moment_arms={coordinate}"]
+    subprocess.run([HOST, "run", os.path.join(ROOT, "models", "hip", scene + ".xml"), "-o", out, "--quiet"] + sets,
+                   check=True)
+    with open(os.path.join(out, "outputs.csv")) as f:
+        rows = list(csv.reader(f))
+    header = rows[0]
+    data = np.array([[float(x) for x in r] for r in rows[1:]])
+    column = lambda name: data[:, header.index(name)]
+    angle_deg = np.degrees(column(coordinate))
+    result = {}
+    for m in MUSCLES:
+        fibres = [i for i, h in enumerate(header) if h.startswith(f"{m}.fibre_moment_arm_{coordinate}_mm_")]
+        result[m] = {
+            "mean": column(f"{m}.moment_arm_{coordinate}_mm"),
+            "p10": np.percentile(data[:, fibres], 10, axis=1),
+            "p90": np.percentile(data[:, fibres], 90, axis=1),
+            "line": column(f"{m}.line_of_action_moment_arm_{coordinate}_mm"),
+        }
+    return angle_deg, result
+
+
+def draw(scene, coordinate, angle_deg, result, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, len(MUSCLES), figsize=(4.2 * len(MUSCLES), 3.6), sharex=True)
+    for ax, m in zip(axes, MUSCLES):
+        r = result[m]
+        ax.fill_between(angle_deg, r["p10"], r["p90"], color="#c0392b", alpha=0.2, label="fibres, 10–90 %")
+        ax.plot(angle_deg, r["mean"], color="#c0392b", label="fibres, mean")
+        ax.plot(angle_deg, r["line"], color="#34495e", linestyle="--", label="line of action")
+        ax.axhline(0.0, color="#999999", linewidth=0.5)
+        ax.set_title(m)
+        ax.set_xlabel(f"{coordinate} (deg)")
+    axes[0].set_ylabel("moment arm −∂l/∂q (mm)")
+    axes[0].legend(fontsize=8)
+    fig.suptitle(f"{scene}: moment arms about {coordinate}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def table(results):
+    lines = ["Moment arms (mm) at five frames evenly spaced over each motion, as angle: mean over fibres / "
+             "line of action, by `scripts/moment_arms.py`:", "",
+             "| scene | muscle |" + " |" * TABLE_FRAMES, "|---|---|" + "---|" * TABLE_FRAMES]
+    for scene, (coordinate, angle_deg, result) in results.items():
+        frames = np.linspace(0, len(angle_deg) - 1, TABLE_FRAMES).round().astype(int)
+        for i, m in enumerate(MUSCLES):
+            cells = [f"{angle_deg[j]:.0f}°: {result[m]['mean'][j]:.0f} / {result[m]['line'][j]:.0f}" for j in frames]
+            lines.append(f"| {scene + ' (' + coordinate + ')' if i == 0 else ''} | {m} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--scenes", default="hip_flexion:hip_flexion_r,hip_adduction:hip_adduction_r")
+    parser.add_argument("--no-write", action="store_true", help="print the table, leave README.md alone")
+    args = parser.parse_args()
+    results = {}
+    with tempfile.TemporaryDirectory() as out_root:
+        for item in args.scenes.split(","):
+            scene, coordinate = item.split(":")
+            angle_deg, result = run_scene(scene, coordinate, out_root)
+            results[scene] = (coordinate, angle_deg, result)
+            picture = os.path.join(ROOT, "docs", "pictures", f"moment_arms_{scene}.png")
+            if not args.no_write:
+                draw(scene, coordinate, angle_deg, result, picture)
+                print("wrote", os.path.relpath(picture, ROOT))
+    text = table(results)
+    print(text)
+    if args.no_write:
+        return
+    replace_readme_section("moment arms", text)
+    print("wrote the moment arms table of README.md")
+
+
+if __name__ == "__main__":
+    main()
