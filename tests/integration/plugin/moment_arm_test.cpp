@@ -6,6 +6,7 @@
 /// two agree to rounding), against a coarser difference, and the line of action's against the
 /// analytic moment arm of a straight line.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -36,7 +37,9 @@ double calcStraightLineArm_mm(double q) {
 class MomentArmScene : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    dir_ = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin/moment_arm";
+    // ctest runs each test of the suite as its own process, perhaps at once: one directory each.
+    const std::string name = "moment_arm_" + std::to_string(::getpid());
+    dir_ = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin" / name;
     fs::remove_all(dir_);
     fs::create_directories(dir_);
     std::ofstream(dir_ / "hinge.urdf")
@@ -66,10 +69,11 @@ class MomentArmScene : public ::testing::Test {
         << "    </RBFMuscle>\n  </components>\n</RBFMuscleModel>\n";
     const test::HostResult r = test::runHost("run '" + (dir_ / "model.xml").string() + "' -o '" + (dir_ / "out").string() +
                                                  "' --quiet",
-                                             "plugin", "moment_arm");
+                                             "plugin", name);
     ASSERT_EQ(r.exit_code, 0) << r.err;
     table_ = readStorage((dir_ / "out/outputs.sto").string());
   }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
 
   static double value(size_t row, const std::string& column) {
     const int c = table_.findColumn("rod." + column);
