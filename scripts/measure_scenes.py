@@ -69,7 +69,7 @@ def table(results):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scenes", default="hip_flexion,hip_adduction,hip_rotation,hip_gait")
+    parser.add_argument("--scenes", default="hip_flexion,hip_flexion_osim,hip_adduction,hip_rotation,hip_gait")
     parser.add_argument("--no-write", action="store_true", help="print the table, leave README.md alone")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as out_root:

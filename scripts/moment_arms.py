@@ -5,8 +5,9 @@
 Runs each scene once through build/bin/rbfmuscle with every muscle's `moment_arms` set to the
 scene's coordinate (a central difference that re-runs each frame at q ± 0.01 rad), then draws per
 muscle the mean over fibres, the range of the middle 80 % of fibres and the line of action's moment
-arm against the angle (docs/pictures/moment_arms_<scene>.png), and writes a table of the values at
-a few angles into README.md between the "moment arms" markers. Moment arms follow OpenSim's sign:
+arm against the angle (docs/pictures/moment_arms_<scene>.png), and prints a table of the values at
+a few angles (scripts/validate_moment_arms.py sets the flexion's beside published ones in README.md).
+Moment arms follow OpenSim's sign:
 r = −∂l/∂q, mm per rad (positive: the muscle shortens as the angle grows).
 
 Usage: /usr/bin/python3 scripts/moment_arms.py [--scenes hip_flexion:hip_flexion_r,...] [--no-write]
@@ -20,7 +21,6 @@ import tempfile
 
 import numpy as np
 
-from readme_section import replace_readme_section
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
@@ -89,7 +89,7 @@ def table(results):
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scenes", default="hip_flexion:hip_flexion_r,hip_adduction:hip_adduction_r")
-    parser.add_argument("--no-write", action="store_true", help="print the table, leave README.md alone")
+    parser.add_argument("--no-write", action="store_true", help="print the table, draw no picture")
     args = parser.parse_args()
     results = {}
     with tempfile.TemporaryDirectory() as out_root:
@@ -101,12 +101,7 @@ def main():
             if not args.no_write:
                 draw(scene, coordinate, angle_deg, result, picture)
                 print("wrote", os.path.relpath(picture, ROOT))
-    text = table(results)
-    print(text)
-    if args.no_write:
-        return
-    replace_readme_section("moment arms", text)
-    print("wrote the moment arms table of README.md")
+    print(table(results))
 
 
 if __name__ == "__main__":

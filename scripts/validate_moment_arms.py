@@ -1,0 +1,168 @@
+#!/usr/bin/python3
+# SPDX-License-Identifier: Apache-2.0
+"""Hip-flexion moment arms of the flexion scene's muscles against published ones.
+
+Runs models/hip/hip_flexion.xml once with every muscle's moment arms about hip_flexion_r (as
+scripts/moment_arms.py does), reads the published curves of models/reference/hip_flexion_moment_arms.json
+(their sources, and how each was read, are in that file), then
+- draws one panel per muscle: our mean over fibres and the range of the middle 80 % of fibres, the
+  line of action, and the published spread or mean (docs/pictures/moment_arms_literature.png);
+- writes into README.md, between the "moment arm validation" markers, a table over 0–60° of flexion
+  in 10° steps: ours, the line of action's, the published spread (Blemker & Delp 2005, fibres of an
+  image-based model) or else mean (Németh & Ohlsén 1985, in vivo), and whether ours lies within the
+  spread, or within 25 % of the mean where only a mean is given.
+All in OpenSim's sign, r = −∂l/∂q (mm per rad; positive: the muscle shortens as the hip flexes).
+
+Usage: /usr/bin/python3 scripts/validate_moment_arms.py [--no-write]
+Needs python3-numpy and python3-matplotlib (Debian) and a built host.
+"""
+import argparse
+import json
+import os
+import tempfile
+
+import numpy as np
+
+from moment_arms import MUSCLES, ROOT, run_scene
+from readme_section import replace_readme_section
+
+REFERENCE = os.path.join(ROOT, "models", "reference", "hip_flexion_moment_arms.json")
+PICTURE = os.path.join(ROOT, "docs", "pictures", "moment_arms_literature.png")
+COORDINATE = "hip_flexion_r"
+TABLE_ANGLES_DEG = range(0, 61, 10)
+MEAN_TOLERANCE = 0.25  # relative, where a source gives only a mean
+UNIT_MM = {"mm": 1.0, "cm": 10.0}
+
+
+def curve(points, unit, sign):
+    """Sorted angles (deg) and values (mm, OpenSim's sign) of a digitised series."""
+    a = np.array(sorted(points))
+    return a[:, 0], sign * UNIT_MM[unit] * a[:, 1]
+
+
+def load_reference():
+    """{muscle: {"spread": [(source, angles, low, high)], "mean": [(source, angles, values)]}}."""
+    with open(REFERENCE) as f:
+        sources = json.load(f)["sources"]
+    reference = {m: {"spread": [], "mean": []} for m in MUSCLES}
+    for s in sources:
+        name = short_name(s)
+        for m, series in s.get("mean", {}).items():
+            angles, values = curve(series, s["unit"], s["to_opensim_sign"])
+            reference[m]["mean"].append((name, angles, values))
+        for m, bounds in s.get("spread", {}).items():
+            sign = s["to_opensim_sign_by_muscle"][m]
+            a_up, up = curve(bounds["upper"], s["unit"], sign)
+            a_lo, lo = curve(bounds["lower"], s["unit"], sign)
+            start, stop = max(a_up[0], a_lo[0]), min(a_up[-1], a_lo[-1])
+            angles = np.linspace(start, stop, 200)
+            one, two = np.interp(angles, a_up, up), np.interp(angles, a_lo, lo)
+            reference[m]["spread"].append((name, angles, np.minimum(one, two), np.maximum(one, two)))
+    return reference
+
+
+def short_name(source):
+    """'Blemker & Delp 2005' from the citation's authors and the key's year."""
+    authors = [a.strip().split(" ")[0] for a in source["citation"].split(".")[0].split(",")]
+    year = source["key"][-4:]
+    return (authors[0] + (" & " + authors[1] if len(authors) == 2 else " et al.")) + " " + year
+
+
+def draw(angle_deg, result, reference):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, len(MUSCLES), figsize=(4.4 * len(MUSCLES), 3.8), sharex=True)
+    for ax, m in zip(axes, MUSCLES):
+        r = result[m]
+        for name, a, lo, hi in reference[m]["spread"]:
+            ax.fill_between(a, lo, hi, color="#2e86c1", alpha=0.15, label=f"{name}, fibres")
+        for name, a, v in reference[m]["mean"]:
+            ax.plot(a, v, "o", color="#1b4f72", markersize=3, label=f"{name}, mean")
+        ax.fill_between(angle_deg, r["p10"], r["p90"], color="#c0392b", alpha=0.2, label="ours, fibres 10–90 %")
+        ax.plot(angle_deg, r["mean"], color="#c0392b", label="ours, mean")
+        ax.plot(angle_deg, r["line"], color="#34495e", linestyle="--", label="our line of action")
+        ax.axhline(0.0, color="#999999", linewidth=0.5)
+        ax.set_xlim(-10, 100)
+        ax.set_title(m)
+        ax.set_xlabel("hip flexion (deg)")
+        ax.legend(fontsize=7)
+    axes[0].set_ylabel("moment arm −∂l/∂q (mm)")
+    fig.suptitle("Hip-flexion moment arms: the flexion scene against published ones")
+    fig.tight_layout()
+    fig.savefig(PICTURE, dpi=110)
+    plt.close(fig)
+
+
+def judge(value, spread, mean):
+    """'yes'/'no' by the spread when there is one at this angle, else by the mean ± 25 %; '–' without either."""
+    if spread is not None:
+        return "yes" if spread[0] <= value <= spread[1] else "no"
+    if mean is not None:
+        return "yes" if abs(value - mean) <= MEAN_TOLERANCE * abs(mean) else "no"
+    return "–"
+
+
+def at(angle, angles, values):
+    """The series at `angle` (linear interpolation), or None outside its angles."""
+    return float(np.interp(angle, angles, values)) if angles[0] <= angle <= angles[-1] else None
+
+
+def table(angle_deg, result, reference):
+    lines = ["Hip-flexion moment arms (mm) of `hip_flexion.xml` against published ones, by "
+             "`scripts/validate_moment_arms.py`; per angle: ours (mean over fibres) / line of action, "
+             "then the published spread over fibres (Blemker & Delp 2005, image-based) or, where there is "
+             "none, the mean ± 25 % (Németh & Ohlsén 1985, in vivo), and ✓ where ours lies within. "
+             "`models/reference/` names the sources.", "",
+             "| muscle |" + "".join(f" {a}° |" for a in TABLE_ANGLES_DEG),
+             "|---|" + "---|" * len(TABLE_ANGLES_DEG)]
+    counts = {}
+    for m in MUSCLES:
+        cells = []
+        for angle in TABLE_ANGLES_DEG:
+            ours = at(angle, angle_deg, result[m]["mean"])
+            line = at(angle, angle_deg, result[m]["line"])
+            spread = next(((at(angle, a, lo), at(angle, a, hi)) for _, a, lo, hi in reference[m]["spread"]
+                           if at(angle, a, lo) is not None), None)
+            mean = next((at(angle, a, v) for _, a, v in reference[m]["mean"] if at(angle, a, v) is not None), None)
+            verdict = judge(ours, spread, mean if spread is None else None)
+            counts.setdefault(m, [0, 0])
+            counts[m][0] += verdict == "yes"
+            counts[m][1] += verdict in ("yes", "no")
+            published = f"{spread[0]:.0f} to {spread[1]:.0f}" if spread else (f"{mean:.0f}" if mean is not None else None)
+            cells.append(f"{ours:.0f} / {line:.0f}" + (f" in {published}" if published else ", none published")
+                         + (" ✓" if verdict == "yes" else ""))
+        lines.append(f"| {m} | " + " | ".join(cells) + " |")
+    lines += ["", "Within, over 0–60°: " + "; ".join(f"{m} {c[0]} of {c[1]} angles" for m, c in counts.items()) + ". "
+              + trend(angle_deg, result, reference)]
+    return "\n".join(lines)
+
+
+def trend(angle_deg, result, reference):
+    """The gluteus maximus's extension moment arm from 40° to 60°: published studies see it shrink."""
+    ours = [abs(at(a, angle_deg, result["glmax_r"]["mean"])) for a in (40, 60)]
+    text = f"The gluteus maximus's extension moment arm from 40° to 60°: ours {ours[0]:.0f} → {ours[1]:.0f} mm"
+    for name, a, v in reference["glmax_r"]["mean"]:
+        text += f", {name} {abs(at(40, a, v)):.0f} → {abs(at(60, a, v)):.0f} mm"
+    return text + "."
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--no-write", action="store_true", help="print the table, leave README.md and the picture alone")
+    args = parser.parse_args()
+    reference = load_reference()
+    with tempfile.TemporaryDirectory() as out_root:
+        angle_deg, result = run_scene("hip_flexion", COORDINATE, out_root)
+    text = table(angle_deg, result, reference)
+    print(text)
+    if args.no_write:
+        return
+    draw(angle_deg, result, reference)
+    print("wrote", os.path.relpath(PICTURE, ROOT))
+    replace_readme_section("moment arm validation", text)
+    print("wrote the moment arm validation table of README.md")
+
+
+if __name__ == "__main__":
+    main()
