@@ -26,7 +26,7 @@ ProjectionResult projectInside(const ImplicitField& field, const ProjectionSetti
   checkProjectionSettings(settings);
   if (!(max_move_mm >= 0))
     throw std::invalid_argument("projectInside: max_move_mm must be ≥ 0, got " + std::to_string(max_move_mm));
-  const double target = 2.0 * settings.margin_mm;
+  const double target = 1.02 * settings.margin_mm;  // just above the margin: ProjectionSettings::margin_mm
   ProjectionResult result;
   result.value = field.calcValue(p_mm);
   if (result.value >= settings.margin_mm) return result;

@@ -2,16 +2,16 @@
 /// @file
 /// Moving a point back inside a muscle field, and fibre lengths.
 ///
-/// Why a monotone ascent: a plain Newton iteration on f = 2·margin keeps every step, also
-/// one that lowers f. Its step (2·margin − f) ∇f/‖∇f‖² grows as ∇f → 0 and is cut to
+/// Why a monotone ascent: a plain Newton iteration on f = a (the aim, just above the margin)
+/// keeps every step, also one that lowers f. Its step (a − f) ∇f/‖∇f‖² grows as ∇f → 0 and is cut to
 /// max_step_mm, so
 ///  - near a local maximum of f outside the muscle it overshoots back and forth;
-///  - in a part thinner than one step (max f < 2·margin) it jumps from the ridge across
+///  - in a part thinner than one step (max f < a) it jumps from the ridge across
 ///    the part to the far side, f ≤ 0 again, and can stop there (unit test);
 ///  - far outside (f at its offset, ∇f = 0) it cannot move at all.
 /// projectInside therefore only accepts steps that raise f (the Newton step, halved
 /// until f rises), so the point ends at the highest f met on its path: f > 0 whenever the
-/// path reaches the muscle, even where the muscle is thinner than 2·margin. Points the
+/// path reaches the muscle, even where the muscle is thinner than the aim. Points the
 /// ascent cannot bring inside (no slope, or too far) are placed from their fibre
 /// neighbours by placeBetweenInsideNeighbours.
 #include "rbf/implicit_field.h"
@@ -25,7 +25,10 @@ namespace rbfmuscle {
 /// How points are pushed inside {f ≥ margin}.
 struct ProjectionSettings {
   /// A point is inside enough when f ≥ margin (field unit ≈ mm of depth, the fit's
-  /// clamped signed distance); > 0. The Newton steps aim at f = 2·margin.
+  /// clamped signed distance); > 0. The Newton steps aim just above it, at f = 1.02·margin:
+  /// a point that falls just below the margin then moves by as little, so fibre lengths
+  /// change continuously with the pose (aiming at 2·margin moved such a point half a
+  /// margin at once, and made the moment arms of the iliacus and psoas twice as rough).
   double margin_mm = 0.5;
   /// Largest move of one step (mm), > 0: bounds the Newton step where ∇f is small.
   double max_step_mm = 1.0;
@@ -59,10 +62,10 @@ struct ProjectionResult {
 };
 
 /// Pushes p inside by a monotone ascent of f: while f(p) < margin, the Newton step on
-/// f = 2·margin, δ = (2·margin − f) ∇f / ‖∇f‖², shortened to max_step_mm, is halved
+/// f = a = 1.02·margin, δ = (a − f) ∇f / ‖∇f‖², shortened to max_step_mm, is halved
 /// (at most max_halvings times) until f(p + δ) > f(p) and then taken. f never decreases,
 /// so `p_mm` ends at the highest f on its path (f > 0 wherever the path reached the
-/// muscle, also where the muscle is thinner than 2·margin). See the file comment for why.
+/// muscle, also where the muscle is thinner than a). See the file comment for why.
 /// The path is at most `max_move_mm` long (steps are shortened to what is left of it).
 /// @throws std::invalid_argument on bad settings or a negative max_move_mm.
 ProjectionResult projectInside(const ImplicitField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm,

@@ -74,6 +74,22 @@ TEST(ProjectInside, AThickPartReachesTheMarginAndAnInsidePointStays) {
   EXPECT_EQ(q, q0);
 }
 
+/// Fibre lengths must change continuously with the pose: a point that falls a little below
+/// the margin moves a little, in proportion, not to a fixed depth inside.
+TEST(ProjectInside, APointJustBelowTheMarginMovesInProportionToItsShortfall) {
+  const GaussianField rod = makeRod(3.0);
+  const ProjectionSettings settings;
+  // On the rod f(r) = 4·exp(−r²/2) − 1; f = margin at r = √(2 ln(4 / 1.5)).
+  const double r_margin = std::sqrt(2.0 * std::log(4.0 / (1.0 + settings.margin_mm)));
+  for (double shortfall_mm : {1e-3, 1e-2, 1e-1}) {
+    Eigen::Vector3d p(0.0, r_margin + shortfall_mm, 0.0);
+    ASSERT_LT(rod.calcValue(p), settings.margin_mm);
+    const ProjectionResult r = projectInside(rod, settings, p);
+    EXPECT_GE(r.value, settings.margin_mm);
+    EXPECT_LT(r.moved_mm, 1.1 * shortfall_mm + 0.03) << shortfall_mm;  // the aim lies 0.01 above the margin
+  }
+}
+
 TEST(ProjectInside, FarOutsideWithoutSlopeStopsAndSaysSo) {
   const GaussianField rod = makeRod(3.0);
   Eigen::Vector3d p(0, 40, 0);  // every Gaussian below the cutoff: f = −1, ∇f = 0
