@@ -1,7 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
-// Fuzz target: OpenSim models (.osim, 3.x and 4.x layouts), read (osim_description.cpp) and
-// built into a Simbody system; an accepted skeleton must pose its bodies finitely at rest. The
-// text stands for a file in models/hip/osim, so the geometry it names may exist there.
+// Fuzz target: OpenSim models (.osim, 3.x and 4.x layouts), read (osim_description.cpp and its
+// joints in osim_joints.cpp) and built into a Simbody system; an accepted skeleton must pose its
+// bodies finitely at rest. The text stands for a file in models/hip/osim, so the geometry it
+// names may exist there.
 #include "fuzz_support.h"
 #include "model/model_error.h"
 #include "model/skeleton.h"

@@ -142,20 +142,13 @@ class SlowWorkNotice {
   std::thread thread_;
 };
 
-}  // namespace
-
-RunSummary runModel(Model& model, const RunOptions& options) {
-  namespace fs = std::filesystem;
-  const auto run_start = Clock::now();
-  StagedDirectory outdir(options.output_directory);
-  const std::string dir = outdir.getStagingPath();
-  if (options.write_frame_meshes) fs::create_directory(fs::path(dir) / "meshes");
-
-  RunSummary summary;
-  auto start = Clock::now();
+/// Initialises the model's components (which may write into `dir`), announcing one that takes
+/// long when progress is shown; returns the seconds taken.
+double initializeComponentsTimed(Model& model, const std::string& dir, bool show_progress) {
+  const auto start = Clock::now();
   std::unique_ptr<SlowWorkNotice> notice;
   model.initializeComponents(dir, [&](const Component& component, int index, int count, bool done) {
-    if (!options.show_progress) return;
+    if (!show_progress) return;
     const std::string what = component.getName() + " (" + component.getClassName() + "), component " +
                              std::to_string(index + 1) + " of " + std::to_string(count);
     if (!done) {
@@ -166,24 +159,49 @@ RunSummary runModel(Model& model, const RunOptions& options) {
     }
   });
   notice.reset();
-  summary.initialize_seconds = msSince(start) / 1000.0;
+  return msSince(start) / 1000.0;
+}
 
+/// The stages timed in each frame: the skeleton, each component, the output, and the frame
+/// meshes when they are written.
+std::vector<StageTiming> nameStages(const Model& model, bool write_frame_meshes) {
+  std::vector<StageTiming> stages;
+  stages.push_back({"skeleton"});
+  for (const auto& component : model.getComponents())
+    stages.push_back({"component " + component->getName() + " (" +
+                      component->getClassName() + ")"});
+  stages.push_back({"output"});
+  if (write_frame_meshes) stages.push_back({"frames_mesh"});
+  return stages;
+}
+
+/// Adds one frame's times to the stages named by nameStages.
+void addFrameTiming(const FrameTiming& timing, std::size_t num_components, std::vector<StageTiming>& stages) {
+  addTime(stages[0], timing.skeleton_ms);
+  for (std::size_t c = 0; c < num_components; ++c) addTime(stages[1 + c], timing.component_ms[c]);
+  addTime(stages[1 + num_components], timing.output_ms);
+}
+
+/// The median and maximum of the frames' wall times (ms), into `summary`.
+void summarizeFrameTimes(const std::vector<double>& frame_ms, RunSummary& summary) {
+  if (frame_ms.empty()) return;
+  std::vector<double> sorted = frame_ms;
+  summary.frame_median_ms = medianOf(sorted);
+  summary.frame_max_ms = sorted.back();
+}
+
+/// Steps the session through every frame of the motion. Each stage's time goes to
+/// summary.stages; the loop's wall time, the frames' median and maximum, and the broken
+/// invariants (also told on stderr) to `summary`. With options.write_frame_meshes, each frame's
+/// geometry is written under `dir` and listed in `series`.
+void runFrameLoop(const Model& model, Session& session, const RunOptions& options, const std::string& dir,
+                  std::map<std::string, PvdSeries>& series, RunSummary& summary) {
   const Motion& motion = model.getMotion();
   const auto& components = model.getComponents();
   const int frames = motion.getNumFrames();
-  Session session(model, frames);
-
-  summary.stages.push_back({"skeleton"});
-  for (const auto& component : components)
-    summary.stages.push_back({"component " + component->getName() + " (" +
-                              component->getClassName() + ")"});
-  summary.stages.push_back({"output"});
-  if (options.write_frame_meshes) summary.stages.push_back({"frames_mesh"});
-
   std::vector<double> frame_ms;
   frame_ms.reserve(frames);
   std::vector<FrameGeometry> geometry_buffer;
-  std::map<std::string, PvdSeries> series;
 
   InvariantChecker invariants(components, options.strict_invariants, [](const std::string& line) {
     std::fprintf(stderr, "rbfmuscle: warning: %s\n", line.c_str());
@@ -200,14 +218,12 @@ RunSummary runModel(Model& model, const RunOptions& options) {
     const auto frame_start = Clock::now();
     const double time_s = motion.getTime(frame);
     const FrameTiming& timing = session.step(time_s, motion.getCoordinates(frame), options.write_frame_meshes);
-    addTime(summary.stages[0], timing.skeleton_ms);
-    for (std::size_t c = 0; c < components.size(); ++c) addTime(summary.stages[1 + c], timing.component_ms[c]);
-    addTime(summary.stages[1 + components.size()], timing.output_ms);
+    addFrameTiming(timing, components.size(), summary.stages);
     invariants.check(frame, time_s);
     if (options.write_frame_meshes) {
-      start = Clock::now();
+      const auto meshes_start = Clock::now();
       writeFrameGeometry(model, frame, time_s, dir, geometry_buffer, series);
-      addTime(summary.stages.back(), msSince(start));
+      addTime(summary.stages.back(), msSince(meshes_start));
     }
     frame_ms.push_back(msSince(frame_start));
     if (first_frame_notice) first_frame_notice->finish("computed frame 1 of " + std::to_string(frames));
@@ -220,11 +236,25 @@ RunSummary runModel(Model& model, const RunOptions& options) {
                  b.component.c_str(), b.output.c_str(), b.promise.c_str(), b.frames, frames, b.first_frame);
   summary.loop_seconds = msSince(loop_start) / 1000.0;
   summary.frames = frames;
-  if (!frame_ms.empty()) {
-    std::vector<double> sorted = frame_ms;
-    summary.frame_median_ms = medianOf(sorted);
-    summary.frame_max_ms = sorted.back();
-  }
+  summarizeFrameTimes(frame_ms, summary);
+}
+
+}  // namespace
+
+RunSummary runModel(Model& model, const RunOptions& options) {
+  namespace fs = std::filesystem;
+  const auto run_start = Clock::now();
+  StagedDirectory outdir(options.output_directory);
+  const std::string dir = outdir.getStagingPath();
+  if (options.write_frame_meshes) fs::create_directory(fs::path(dir) / "meshes");
+
+  RunSummary summary;
+  summary.initialize_seconds = initializeComponentsTimed(model, dir, options.show_progress);
+
+  Session session(model, model.getMotion().getNumFrames());
+  summary.stages = nameStages(model, options.write_frame_meshes);
+  std::map<std::string, PvdSeries> series;
+  runFrameLoop(model, session, options, dir, series, summary);
   summary.reported = summarizeReportedTimes(session.getTable());
 
   session.getReporter().write(dir);

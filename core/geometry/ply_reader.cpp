@@ -132,23 +132,17 @@ void checkCountsFitFile(const std::string& path, const std::vector<Element>& ele
   if (!has_vertex) throw MeshError(path + ": PLY header has no 'vertex' element");
 }
 
-}  // namespace
-
-PlyContent readPly(const std::string& path) {
-  const std::uintmax_t file_bytes = io::requireRegularFile<MeshError>(path, "a PLY mesh file");
-  if (file_bytes > kMaxPlyFileBytes)
-    throw MeshError(path + ": PLY file of " + std::to_string(file_bytes) + " bytes, more than the " +
-                    std::to_string(kMaxPlyFileBytes) + " this reader accepts");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw MeshError(path + ": cannot open mesh file (missing or unreadable)");
-  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parsePly(data, path);
-}
-
-PlyContent parsePly(const std::string& data, const std::string& path) {
+/// What the header says: the data's format and its elements, and where the data begins.
+struct PlyHeader {
   Format format = Format::Ascii;
-  bool has_format = false;
   std::vector<Element> elements;
+  std::size_t data_begin = 0;  ///< byte after the end_header line
+};
+
+/// Reads the header up to end_header. @throws MeshError naming the line when it is not understood.
+PlyHeader readPlyHeader(const std::string& data, const std::string& path) {
+  PlyHeader header;
+  bool has_format = false;
   std::size_t pos = 0;
   int line_number = 0;
   for (;;) {
@@ -170,9 +164,9 @@ PlyContent parsePly(const std::string& data, const std::string& path) {
     } else if (key == "format") {
       std::string name;
       words >> name;
-      if (name == "ascii") format = Format::Ascii;
-      else if (name == "binary_little_endian") format = Format::BinaryLittle;
-      else if (name == "binary_big_endian") format = Format::BinaryBig;
+      if (name == "ascii") header.format = Format::Ascii;
+      else if (name == "binary_little_endian") header.format = Format::BinaryLittle;
+      else if (name == "binary_big_endian") header.format = Format::BinaryBig;
       else throw bad("unknown format");
       has_format = true;
     } else if (key == "element") {
@@ -184,9 +178,9 @@ PlyContent parsePly(const std::string& data, const std::string& path) {
       if (*end != '\0' || e.count < 0 || e.count > kMaxPlyElementCount)
         throw bad("expected a whole number of records from 0 to " + std::to_string(kMaxPlyElementCount) +
                   ", got '" + count_text + "'");
-      elements.push_back(e);
+      header.elements.push_back(e);
     } else if (key == "property") {
-      if (elements.empty()) throw bad("property before any element");
+      if (header.elements.empty()) throw bad("property before any element");
       Property p;
       words >> p.type;
       if (p.type == "list") words >> p.count_type >> p.type;
@@ -194,7 +188,7 @@ PlyContent parsePly(const std::string& data, const std::string& path) {
       if (p.name.empty() || sizeOf(p.type) == 0 ||
           (!p.count_type.empty() && sizeOf(p.count_type) == 0))
         throw bad("unknown property type");
-      elements.back().properties.push_back(p);
+      header.elements.back().properties.push_back(p);
     } else if (key == "end_header") {
       break;
     } else if (key != "comment" && key != "obj_info" && !key.empty()) {
@@ -202,11 +196,16 @@ PlyContent parsePly(const std::string& data, const std::string& path) {
     }
   }
   if (!has_format) throw MeshError(path + ": PLY header has no format line");
-  checkCountsFitFile(path, elements, format, data.size() - pos);
+  header.data_begin = pos;
+  return header;
+}
 
+/// Reads every element's records: the x, y, z of vertices and the vertex indices of faces are
+/// kept, other properties read past.
+PlyContent readPlyData(const std::string& data, const std::string& path, const PlyHeader& header) {
   PlyContent content;
-  BodyReader body(path, data, pos, format);
-  for (const Element& e : elements) {
+  BodyReader body(path, data, header.data_begin, header.format);
+  for (const Element& e : header.elements) {
     const bool is_vertex = e.name == "vertex", is_face = e.name == "face";
     if (is_vertex) content.vertices.resize(static_cast<std::size_t>(e.count), {0.0, 0.0, 0.0});
     for (long long i = 0; i < e.count; ++i) {
@@ -230,12 +229,37 @@ PlyContent parsePly(const std::string& data, const std::string& path) {
       }
     }
   }
+  return content;
+}
+
+/// Refuses a face whose vertex index is not one of the vertices, naming the face.
+void checkFaceIndices(const std::string& path, const PlyContent& content) {
   const long long vertex_count = static_cast<long long>(content.vertices.size());
   for (std::size_t f = 0; f < content.faces.size(); ++f)
     for (int v : content.faces[f])
       if (v < 0 || v >= vertex_count)
         throw MeshError(path + ": PLY face " + std::to_string(f) + " uses vertex " +
                         std::to_string(v) + ", expected 0.." + std::to_string(vertex_count - 1));
+}
+
+}  // namespace
+
+PlyContent readPly(const std::string& path) {
+  const std::uintmax_t file_bytes = io::requireRegularFile<MeshError>(path, "a PLY mesh file");
+  if (file_bytes > kMaxPlyFileBytes)
+    throw MeshError(path + ": PLY file of " + std::to_string(file_bytes) + " bytes, more than the " +
+                    std::to_string(kMaxPlyFileBytes) + " this reader accepts");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw MeshError(path + ": cannot open mesh file (missing or unreadable)");
+  const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parsePly(data, path);
+}
+
+PlyContent parsePly(const std::string& data, const std::string& path) {
+  const PlyHeader header = readPlyHeader(data, path);
+  checkCountsFitFile(path, header.elements, header.format, data.size() - header.data_begin);
+  PlyContent content = readPlyData(data, path, header);
+  checkFaceIndices(path, content);
   return content;
 }
 

@@ -2,8 +2,9 @@
 #pragma once
 /// @file
 /// Internal to core/model: reading an OpenSim model file's XML (tinyxml2, for line numbers in
-/// every error), shared by the skeleton reader (osim_description.h) and the muscle path reader
-/// (osim_muscle_path.h). Lengths are converted from the model's `<length_units>` to mm here.
+/// every error), shared by the skeleton reader (osim_description.h, its joints in osim_joints.h)
+/// and the muscle path reader (osim_muscle_path.h). Lengths are converted from the model's
+/// `<length_units>` to mm here.
 #include <tinyxml2.h>
 
 #include <Eigen/Core>

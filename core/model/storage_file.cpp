@@ -160,63 +160,91 @@ StorageTable parseStorageText(const std::string& text, const std::string& path) 
 
 namespace {
 
-StorageTable readStorageStream(std::istream& in, const std::string& path) {
-  StorageTable table;
+/// A storage stream read line by line: the current line and its number (1-based), for errors.
+struct LineCursor {
+  LineCursor(std::istream& stream, const std::string& file_path) : in(stream), path(file_path) {}
+
+  std::istream& in;
+  const std::string& path;
   std::string line;
   int line_no = 0;
-  bool have_end = false;
-  long n_rows = -1, n_columns = -1;
-  int n_rows_line = 0, n_columns_line = 0;
 
-  // Header: an optional name line, then key=value lines (OpenSim; keys and values may be
-  // quoted), or `datarows N` / `datacolumns N` (SIMM motion files), up to `endheader`.
-  while (std::getline(in, line)) {
+  /// Reads the next line into `line`; false at the end of the stream.
+  bool next() {
+    if (!std::getline(in, line)) return false;
     ++line_no;
-    const std::string t = trim(line);
+    return true;
+  }
+};
+
+/// The row and column counts a header declares (-1: not declared) and the lines declaring them.
+struct HeaderCounts {
+  long rows = -1, columns = -1;
+  int rows_line = 0, columns_line = 0;
+};
+
+/// One `key=value` header line (keys and values may be quoted); unknown keys are ignored.
+void readHeaderSetting(const LineCursor& cursor, const std::string& line, std::size_t eq, HeaderCounts& counts,
+                       StorageTable& table) {
+  const std::string& path = cursor.path;
+  const int line_no = cursor.line_no;
+  const std::string key = unquote(trim(line.substr(0, eq)));
+  const std::string value = unquote(trim(line.substr(eq + 1)));
+  if (key == "inDegrees") {
+    const std::string v = lower(value);
+    if (v == "yes" || v == "true") table.in_degrees = true;
+    else if (v == "no" || v == "false") table.in_degrees = false;
+    else fail(path, line_no, "header 'inDegrees=" + value + "': expected yes or no");
+  } else if (key == "nRows") {
+    counts.rows = parseCount(path, line_no, key, value);
+    counts.rows_line = line_no;
+  } else if (key == "nColumns") {
+    counts.columns = parseCount(path, line_no, key, value);
+    counts.columns_line = line_no;
+  }
+}
+
+/// Header: an optional name line, then key=value lines (OpenSim; keys and values may be
+/// quoted), or `datarows N` / `datacolumns N` (SIMM motion files), up to `endheader`.
+HeaderCounts readHeader(LineCursor& cursor, StorageTable& table) {
+  HeaderCounts counts;
+  bool have_end = false;
+  while (cursor.next()) {
+    const std::string t = trim(cursor.line);
     if (t == "endheader") {
       have_end = true;
       break;
     }
     const auto eq = t.find('=');
-    if (eq == std::string::npos) {
-      std::istringstream words(t);
-      std::string word, count, extra;
-      words >> word >> count;
-      if ((word == "datarows" || word == "datacolumns") && !count.empty() && !(words >> extra)) {
-        const long n = parseCount(path, line_no, word, count);
-        (word == "datarows" ? n_rows : n_columns) = n;
-        (word == "datarows" ? n_rows_line : n_columns_line) = line_no;
-      } else if (line_no == 1) {
-        table.name = t;
-      }
-      continue;  // free-text header lines ("Units are S.I. units ...") are allowed
+    if (eq != std::string::npos) {
+      readHeaderSetting(cursor, t, eq, counts, table);
+      continue;
     }
-    const std::string key = unquote(trim(t.substr(0, eq)));
-    const std::string value = unquote(trim(t.substr(eq + 1)));
-    if (key == "inDegrees") {
-      const std::string v = lower(value);
-      if (v == "yes" || v == "true") table.in_degrees = true;
-      else if (v == "no" || v == "false") table.in_degrees = false;
-      else fail(path, line_no, "header 'inDegrees=" + value + "': expected yes or no");
-    } else if (key == "nRows") {
-      n_rows = parseCount(path, line_no, key, value);
-      n_rows_line = line_no;
-    } else if (key == "nColumns") {
-      n_columns = parseCount(path, line_no, key, value);
-      n_columns_line = line_no;
+    std::istringstream words(t);
+    std::string word, count, extra;
+    words >> word >> count;
+    if ((word == "datarows" || word == "datacolumns") && !count.empty() && !(words >> extra)) {
+      const long n = parseCount(cursor.path, cursor.line_no, word, count);
+      (word == "datarows" ? counts.rows : counts.columns) = n;
+      (word == "datarows" ? counts.rows_line : counts.columns_line) = cursor.line_no;
+    } else if (cursor.line_no == 1) {
+      table.name = t;
     }
+    // free-text header lines ("Units are S.I. units ...") are allowed
   }
-  if (!have_end) fail(path, line_no, "no 'endheader' line before the end of the file");
+  if (!have_end) fail(cursor.path, cursor.line_no, "no 'endheader' line before the end of the file");
+  return counts;
+}
 
-  // Column labels: the first non-blank line after `endheader`.
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (!trim(line).empty()) break;
-  }
-  table.column_labels = splitLabels(line);
+/// Column labels: the first non-blank line after `endheader`, starting with `time`, each once.
+void readColumnLabels(LineCursor& cursor, const HeaderCounts& counts, StorageTable& table) {
+  const std::string& path = cursor.path;
+  while (cursor.next())
+    if (!trim(cursor.line).empty()) break;
+  table.column_labels = splitLabels(cursor.line);
   if (table.column_labels.empty())
-    fail(path, line_no, "no row of column labels after 'endheader'");
-  const int labels_line = line_no;
+    fail(path, cursor.line_no, "no row of column labels after 'endheader'");
+  const int labels_line = cursor.line_no;
   if (table.column_labels[0] != "time")
     fail(path, labels_line,
          "first column label is '" + table.column_labels[0] + "', expected 'time'");
@@ -224,18 +252,19 @@ StorageTable readStorageStream(std::istream& in, const std::string& path) {
   for (const auto& label : table.column_labels)
     if (!seen.insert(label).second)
       fail(path, labels_line, "column label '" + label + "' appears twice");
-  if (n_columns >= 0 && static_cast<std::size_t>(n_columns) != table.column_labels.size())
-    fail(path, n_columns_line,
-         "header says nColumns=" + std::to_string(n_columns) + " but the label row (line " +
+  if (counts.columns >= 0 && static_cast<std::size_t>(counts.columns) != table.column_labels.size())
+    fail(path, counts.columns_line,
+         "header says nColumns=" + std::to_string(counts.columns) + " but the label row (line " +
              std::to_string(labels_line) + ") has " +
              std::to_string(table.column_labels.size()) + " labels");
+}
 
-  // Data rows: white-space separated numbers, one per column.
+/// Data rows: white-space separated numbers, one per column.
+void readDataRows(LineCursor& cursor, StorageTable& table) {
   const std::size_t width = table.column_labels.size();
-  while (std::getline(in, line)) {
-    ++line_no;
-    if (trim(line).empty()) continue;
-    std::istringstream ss(line);
+  while (cursor.next()) {
+    if (trim(cursor.line).empty()) continue;
+    std::istringstream ss(cursor.line);
     std::vector<double> row;
     row.reserve(width);
     std::string token;
@@ -243,22 +272,30 @@ StorageTable readStorageStream(std::istream& in, const std::string& path) {
       char* end = nullptr;
       const double v = std::strtod(token.c_str(), &end);
       if (end == token.c_str() || *end != '\0')
-        fail(path, line_no,
+        fail(cursor.path, cursor.line_no,
              "value '" + token + "' in column " + std::to_string(row.size() + 1) +
                  (row.size() < width ? " ('" + table.column_labels[row.size()] + "')" : "") +
                  " is not a number");
       row.push_back(v);
     }
     if (row.size() != width)
-      fail(path, line_no,
+      fail(cursor.path, cursor.line_no,
            "row has " + std::to_string(row.size()) + " values, expected " +
                std::to_string(width) + " (one per column label)");
     table.rows.push_back(std::move(row));
-    table.row_lines.push_back(line_no);
+    table.row_lines.push_back(cursor.line_no);
   }
-  if (n_rows >= 0 && static_cast<std::size_t>(n_rows) != table.rows.size())
-    fail(path, n_rows_line,
-         "header says nRows=" + std::to_string(n_rows) + " but the file has " +
+}
+
+StorageTable readStorageStream(std::istream& in, const std::string& path) {
+  StorageTable table;
+  LineCursor cursor(in, path);
+  const HeaderCounts counts = readHeader(cursor, table);
+  readColumnLabels(cursor, counts, table);
+  readDataRows(cursor, table);
+  if (counts.rows >= 0 && static_cast<std::size_t>(counts.rows) != table.rows.size())
+    fail(path, counts.rows_line,
+         "header says nRows=" + std::to_string(counts.rows) + " but the file has " +
              std::to_string(table.rows.size()) + " data rows");
   return table;
 }
