@@ -64,7 +64,19 @@ def table(results):
                          f"{f'{1000.0 / median:.1f}' if i == 0 else ''} | {f['muscle']} | {f['update_ms']:.1f} | {stages} | "
                          f"{f['volume'][0]:.4f} – {f['volume'][1]:.4f} | {f['fibre'][0]:.3f} → {f['fibre'][1]:.3f} | "
                          f"{f['outside']:.0f} |")
+    if "hip_flexion" in results and "hip_flexion_osim" in results:
+        lines[0] += " " + axes_comparison(results["hip_flexion"][1], results["hip_flexion_osim"][1])
     return "\n".join(lines)
+
+
+def axes_comparison(urdf, osim):
+    """The same muscles flexed about the URDF scene's axis and about the subject's own OpenSim
+    joint, whose flexion axis lies 6.99° away (models/hip/README.md, "The two flexion axes")."""
+    pairs = ", ".join(f"{u['muscle']} {u['fibre'][1]:.3f} against {o['fibre'][1]:.3f}"
+                      for u, o in zip(urdf, osim) if u["muscle"] == o["muscle"])
+    return ("`hip_flexion_osim` flexes the same muscles about the subject's own OpenSim hip joint, whose "
+            "flexion axis lies 6.99° from the URDF scene's (`models/hip/README.md`); fibre length ratio at the "
+            f"last frame, URDF against OpenSim joint: {pairs}.")
 
 
 def main():

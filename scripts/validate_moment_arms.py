@@ -133,8 +133,8 @@ def table(angle_deg, result, reference):
             cells.append(f"{ours:.0f} / {line:.0f}" + (f" in {published}" if published else ", none published")
                          + (" ✓" if verdict == "yes" else ""))
         lines.append(f"| {m} | " + " | ".join(cells) + " |")
-    lines += ["", "Within, over 0–60°: " + "; ".join(f"{m} {c[0]} of {c[1]} angles" for m, c in counts.items()) + ". "
-              + trend(angle_deg, result, reference)]
+    lines[0] += (" Within, over 0–60°: " + "; ".join(f"{m} {c[0]} of {c[1]} angles" for m, c in counts.items())
+                 + ". " + trend(angle_deg, result, reference))
     return "\n".join(lines)
 
 
