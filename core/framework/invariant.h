@@ -30,7 +30,7 @@ struct Invariant {
   bool may_be_absent = false;
 };
 
-/// One invariant broken in a run: where first, how often, and the worst value seen.
+/// One invariant broken in a run: where first and how often.
 struct InvariantBreak {
   std::string component;      ///< component name
   std::string output;         ///< output name

@@ -4,6 +4,7 @@
 #include "framework/interrupt.h"
 
 #include <chrono>
+#include <cstdio>
 #include <string>
 
 namespace rbfmuscle {
@@ -17,10 +18,14 @@ double msSince(Clock::time_point start) {
 
 }  // namespace
 
-Session::Session(Model& model, int expected_frames)
+Session::Session(Model& model, int expected_frames, bool strict_invariants)
     : model_(model),
       reporter_(model.getDocument().name, model.getSkeleton().getCoordinateNames(), model.getComponents(),
-                model.getDocument().reporter_patterns, model.getDocument().reporter_location, expected_frames) {
+                model.getDocument().reporter_patterns, model.getDocument().reporter_location, expected_frames),
+      invariants_(model.getComponents(), strict_invariants, [](const std::string& line) {
+        std::fprintf(stderr, "rbfmuscle: warning: %s\n", line.c_str());
+        std::fflush(stderr);
+      }) {
   const std::size_t bodies = model.getSkeleton().getBodyNames().size();
   X_GB_.assign(bodies, Eigen::Isometry3d::Identity());
   moved_.assign(bodies, 1);
@@ -63,6 +68,7 @@ const FrameTiming& Session::step(double time_s, const Eigen::VectorXd& q, bool w
   for (std::size_t c = 0; c < components.size(); ++c)
     if (!errors[c].empty())
       throwAt(components[c]->getSourceLocation(), "update at frame " + std::to_string(frames_) + ": " + errors[c]);
+  invariants_.check(frames_, time_s);
   start = Clock::now();
   reporter_.record(time_s, skeleton.getCoordinateValues());
   timing_.output_ms = msSince(start);
