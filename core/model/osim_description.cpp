@@ -10,8 +10,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
-#include <iterator>
 #include <map>
 #include <set>
 #include <sstream>
@@ -20,7 +18,6 @@
 #include "model/osim_joints.h"
 #include "model/osim_xml.h"
 #include "model/urdf_description.h"
-#include "io/file_checks.h"
 
 namespace rbfmuscle::detail {
 namespace {

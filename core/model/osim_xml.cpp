@@ -54,14 +54,20 @@ std::string lastPathComponent(const std::string& path) {
 
 namespace {
 
+/// Refuses a model of more than kMaxOsimFileBytes, checked before the file is read and again
+/// for text given from memory.
+void checkOsimSize(const std::string& path, std::uintmax_t bytes) {
+  if (bytes > kMaxOsimFileBytes)
+    throw ModelError("OpenSim model " + path + ": " + std::to_string(bytes) + " bytes, more than the " +
+                     std::to_string(kMaxOsimFileBytes) + " a model file may have");
+}
+
 std::string readOsimFile(const std::string& path) {
   const std::string problem = io::findInputFileProblem(path, "an OpenSim model (.osim)");
   if (!problem.empty()) throw ModelError("OpenSim model " + path + ": " + problem);
   std::error_code ec;
   const std::uintmax_t bytes = std::filesystem::file_size(path, ec);
-  if (!ec && bytes > kMaxOsimFileBytes)
-    throw ModelError("OpenSim model " + path + ": " + std::to_string(bytes) + " bytes, more than the " +
-                     std::to_string(kMaxOsimFileBytes) + " a model file may have");
+  if (!ec) checkOsimSize(path, bytes);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw ModelError("OpenSim model " + path + ": cannot open it (unreadable)");
   return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
@@ -72,9 +78,7 @@ std::string readOsimFile(const std::string& path) {
 OsimXml::OsimXml(std::string path) : OsimXml(path, readOsimFile(path)) {}
 
 OsimXml::OsimXml(std::string path, const std::string& xml_text) : path_(std::move(path)) {
-  if (xml_text.size() > kMaxOsimFileBytes)
-    throw ModelError("OpenSim model " + path_ + ": " + std::to_string(xml_text.size()) + " bytes, more than the " +
-                     std::to_string(kMaxOsimFileBytes) + " a model file may have");
+  checkOsimSize(path_, xml_text.size());
   if (document_.Parse(xml_text.data(), xml_text.size()) != tinyxml2::XML_SUCCESS)
     throw ModelError("OpenSim model " + path_ + ", line " + std::to_string(document_.ErrorLineNum()) +
                      ": not well-formed XML (" + document_.ErrorName() + ")");
