@@ -10,7 +10,6 @@ the most fibre points left outside. Timings depend on the machine and its load: 
 states the machine's core count and load.
 """
 import argparse
-import csv
 import json
 import os
 import statistics
@@ -18,6 +17,7 @@ import subprocess
 import tempfile
 
 from readme_section import replace_readme_section
+from run_outputs import read_outputs
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
@@ -30,11 +30,9 @@ def run_scene(scene, out_root):
                    check=True)
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
-    with open(os.path.join(out, "outputs.csv")) as f:
-        rows = list(csv.reader(f))
-    header, data = rows[0], [[float(x) for x in r] for r in rows[1:]]
-    column = lambda name: [r[header.index(name)] for r in data]
-    muscles = sorted({h.split(".")[0] for h in header if h.endswith(".volume_ratio")})
+    columns = read_outputs(out)
+    column = lambda name: columns[name]
+    muscles = sorted({h.split(".")[0] for h in columns if h.endswith(".volume_ratio")})
     figures = []
     for m in muscles:
         volume = column(m + ".volume_ratio")

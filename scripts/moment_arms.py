@@ -14,12 +14,13 @@ Usage: /usr/bin/python3 scripts/moment_arms.py [--scenes hip_flexion:hip_flexion
 Needs python3-numpy and python3-matplotlib (Debian) and a built host.
 """
 import argparse
-import csv
 import os
 import subprocess
 import tempfile
 
 import numpy as np
+
+from run_outputs import read_outputs
 
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
@@ -35,19 +36,16 @@ def run_scene(scene, coordinate, out_root):
         sets += ["--set", f"{m}.moment_arms={coordinate}"]
     subprocess.run([HOST, "run", os.path.join(ROOT, "models", "hip", scene + ".xml"), "-o", out, "--quiet"] + sets,
                    check=True)
-    with open(os.path.join(out, "outputs.csv")) as f:
-        rows = list(csv.reader(f))
-    header = rows[0]
-    data = np.array([[float(x) for x in r] for r in rows[1:]])
-    column = lambda name: data[:, header.index(name)]
+    columns = read_outputs(out)
+    column = lambda name: columns[name]
     angle_deg = np.degrees(column(coordinate))
     result = {}
     for m in MUSCLES:
-        fibres = [i for i, h in enumerate(header) if h.startswith(f"{m}.fibre_moment_arm_{coordinate}_mm_")]
+        fibres = np.array([v for h, v in columns.items() if h.startswith(f"{m}.fibre_moment_arm_{coordinate}_mm_")]).T
         result[m] = {
             "mean": column(f"{m}.moment_arm_{coordinate}_mm"),
-            "p10": np.percentile(data[:, fibres], 10, axis=1),
-            "p90": np.percentile(data[:, fibres], 90, axis=1),
+            "p10": np.percentile(fibres, 10, axis=1),
+            "p90": np.percentile(fibres, 90, axis=1),
             "line": column(f"{m}.line_of_action_moment_arm_{coordinate}_mm"),
         }
     return angle_deg, result

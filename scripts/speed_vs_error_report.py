@@ -8,16 +8,10 @@ import statistics
 
 import numpy as np
 
+from run_outputs import read_outputs
+
 
 # ---- one run -----------------------------------------------------------------------------------
-
-def read_outputs(out):
-    with open(os.path.join(out, "outputs.csv")) as f:
-        rows = list(csv.reader(f))
-    header = rows[0]
-    data = np.array([[float(x) for x in r] for r in rows[1:]], dtype=float).reshape(len(rows) - 1, len(header))
-    return {name: data[:, k] for k, name in enumerate(header)}
-
 
 def measure(out, model, coordinate):
     with open(os.path.join(out, "summary.json")) as f:

@@ -1,0 +1,16 @@
+# SPDX-License-Identifier: Apache-2.0
+"""What `rbfmuscle run` wrote, for the scripts that measure runs: the columns of OUTDIR/outputs.csv."""
+import csv
+import os
+
+import numpy as np
+
+
+def read_outputs(out):
+    """{column: 1-D array over the frames} of OUTDIR/outputs.csv (time, coordinates, outputs), in
+    the file's column order."""
+    with open(os.path.join(out, "outputs.csv")) as f:
+        rows = list(csv.reader(f))
+    header = rows[0]
+    data = np.array([[float(x) for x in r] for r in rows[1:]], dtype=float).reshape(len(rows) - 1, len(header))
+    return {name: data[:, k] for k, name in enumerate(header)}
