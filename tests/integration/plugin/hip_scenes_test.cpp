@@ -106,6 +106,92 @@ bool holds(const std::vector<std::string>& muscles, const std::string& muscle) {
   return std::find(muscles.begin(), muscles.end(), muscle) != muscles.end();
 }
 
+/// The femur's motion (rest → frame, ground) at every frame of the motion at `motion_path`.
+std::vector<Eigen::Isometry3d> calcFemurMotions(const fs::path& motion_path) {
+  Skeleton skeleton = Skeleton::fromUrdf((kHip / "hip_r.urdf").string());
+  const Motion motion = Motion::fromFile(motion_path.string(), skeleton);
+  const int femur_body = skeleton.findBodyIndex("femur_r");
+  skeleton.setCoordinateValues(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(skeleton.getCoordinateNames().size())));
+  const Eigen::Isometry3d X_GF_rest = skeleton.getBodyTransform(femur_body);
+  std::vector<Eigen::Isometry3d> femur_motion;
+  for (int frame = 0; frame < motion.getNumFrames(); ++frame) {
+    skeleton.setCoordinateValues(motion.getCoordinates(frame));
+    femur_motion.push_back(skeleton.getBodyTransform(femur_body) * X_GF_rest.inverse());
+  }
+  return femur_motion;
+}
+
+/// The every-frame checks of one muscle's outputs at `row`; returns its fibre points outside.
+double checkOutputs(const StorageTable& table, size_t row, const std::string& muscle, const SceneChecks& checks) {
+  const auto column = [&](const std::string& name) {
+    const int c = table.findColumn(muscle + "." + name);
+    EXPECT_GE(c, 0) << muscle << "." << name;
+    return static_cast<size_t>(std::max(c, 0));
+  };
+  const std::vector<double>& r = table.rows[row];
+  for (size_t c = 0; c < r.size(); ++c)
+    if (table.column_labels[c].rfind(muscle + ".", 0) == 0) {
+      EXPECT_TRUE(std::isfinite(r[c])) << table.column_labels[c] << " frame " << row;
+    }
+  const size_t outside = column("fibre_points_outside"), fibre = column("fibre_length_ratio");
+  EXPECT_NEAR(r[column("volume_ratio")], 1.0, 2e-3) << muscle << " frame " << row;
+  EXPECT_LE(r[column("fibre_end_offset_max_mm")], 0.5) << muscle << ": a fibre end left its place on its bone at frame "
+                                                        << row;
+  if (holds(checks.fibres_inside, muscle)) {
+    EXPECT_EQ(r[outside], 0.0) << muscle << " fibre points outside at frame " << row;
+  }
+  if (holds(checks.fibres_monotone, muscle) && row > 0) {
+    if (muscle == "glmax_r") EXPECT_GT(r[fibre], table.rows[row - 1][fibre]) << muscle << " lengthens, frame " << row;
+    else EXPECT_LT(r[fibre], table.rows[row - 1][fibre]) << muscle << " shortens, frame " << row;
+  }
+  return r[outside];
+}
+
+/// The bones a tracked surface must stay out of (the femur in its own frame).
+struct SceneBones {
+  Bone femur{"femur_r"}, ilium{"pelvis_iliac_r"}, sacrum{"pelvis_sacrum"};
+};
+
+/// One muscle's tracked surface followed over the frames: its deepest vertex in a bone, its
+/// worst jump beyond the femur's move + 1 mm, and its most pieces.
+class SurfaceWatch {
+ public:
+  explicit SurfaceWatch(const SceneBones& bones) : bones_(bones) {}
+
+  /// Adds frame `row`, the femur moved by `femur_motion` (rest → frame) and by `femur_step` since the last frame.
+  void addFrame(const FrameGeometry& g, int row, const Eigen::Isometry3d& femur_motion,
+                const Eigen::Isometry3d& femur_step) {
+    const std::vector<char> used = findUsed(g);
+    most_pieces = std::max(most_pieces, countPieces(g));
+    const Eigen::Isometry3d X_FG = femur_motion.inverse();
+    for (Eigen::Index v = 0; v < g.vertices_mm.cols(); ++v) {
+      if (!used[static_cast<size_t>(v)]) continue;
+      const Eigen::Vector3d y = g.vertices_mm.col(v);
+      const double depth = std::max({bones_.femur.calcDepth(X_FG * y), bones_.ilium.calcDepth(y), bones_.sacrum.calcDepth(y)});
+      if (depth > worst_depth) worst_depth = depth, worst_depth_frame = row;
+      // A vertex that found no surface in the previous frame lay where a bone held the muscle;
+      // the surface there was the bone's contact patch, which the tracked mesh leaves out.
+      if (!previous_ || !previous_used_[static_cast<size_t>(v)]) continue;
+      const double allowance = (femur_step.inverse() * y - y).norm() + 1.0;  // the femur's move at y
+      const double jump = previous_->calcUnsignedDistance(y) - allowance;
+      if (jump > worst_jump) worst_jump = jump, worst_jump_frame = row;
+    }
+    TriangleMesh surface;
+    surface.vertices_mm = g.vertices_mm;
+    surface.triangles = g.triangles;
+    previous_ = std::make_unique<MeshDistance>(std::move(surface), false);
+    previous_used_ = used;
+  }
+
+  double worst_depth = 0.0, worst_jump = -1e9;
+  int worst_depth_frame = 0, worst_jump_frame = 0, most_pieces = 0;
+
+ private:
+  const SceneBones& bones_;
+  std::unique_ptr<MeshDistance> previous_;  // the previous frame's surface
+  std::vector<char> previous_used_;
+};
+
 /// Runs `scene` (models/hip/SCENE.xml with `motion_path`, absolute or in models/hip/motions)
 /// and checks every frame (file comment).
 void checkScene(const std::string& scene, const std::string& motion_file, const SceneChecks& checks) {
@@ -119,94 +205,32 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
       "plugin", tag);
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const StorageTable table = readStorage((out / "outputs.sto").string());
-  const auto column = [&](const std::string& label) {
-    const int c = table.findColumn(label);
-    EXPECT_GE(c, 0) << label;
-    return static_cast<size_t>(std::max(c, 0));
-  };
-
-  // The bones as the scene poses them: pelvis fixed (CT frame), femur by the skeleton.
-  Skeleton skeleton = Skeleton::fromUrdf((kHip / "hip_r.urdf").string());
-  const Motion motion = Motion::fromFile(motion_path.string(), skeleton);
-  ASSERT_EQ(static_cast<int>(table.rows.size()), motion.getNumFrames());
-  const int femur_body = skeleton.findBodyIndex("femur_r");
-  const Bone femur("femur_r"), ilium("pelvis_iliac_r"), sacrum("pelvis_sacrum");
-  skeleton.setCoordinateValues(Eigen::VectorXd::Zero(static_cast<Eigen::Index>(skeleton.getCoordinateNames().size())));
-  const Eigen::Isometry3d X_GF_rest = skeleton.getBodyTransform(femur_body);
-  std::vector<Eigen::Isometry3d> femur_motion;  // rest → frame, ground
-  for (int frame = 0; frame < motion.getNumFrames(); ++frame) {
-    skeleton.setCoordinateValues(motion.getCoordinates(frame));
-    femur_motion.push_back(skeleton.getBodyTransform(femur_body) * X_GF_rest.inverse());
-  }
-
+  const std::vector<Eigen::Isometry3d> femur_motion = calcFemurMotions(motion_path);  // pelvis fixed (CT frame)
+  ASSERT_EQ(table.rows.size(), femur_motion.size());
+  const SceneBones bones;
   for (const std::string& muscle : checks.muscles) {
-    const size_t volume = column(muscle + ".volume_ratio"), outside = column(muscle + ".fibre_points_outside");
-    const size_t end_offset = column(muscle + ".fibre_end_offset_max_mm");
-    const size_t fibre = column(muscle + ".fibre_length_ratio");
-    double worst_depth = 0.0, worst_jump = -1e9;
-    int worst_depth_frame = 0, worst_jump_frame = 0;
     double most_outside = 0.0;
-    int most_pieces = 0;
-    std::unique_ptr<MeshDistance> previous;  // the previous frame's surface
-    std::vector<char> previous_used;
+    SurfaceWatch watch(bones);
     for (size_t row = 0; row < table.rows.size(); ++row) {
-      const std::vector<double>& r = table.rows[row];
-      for (size_t c = 0; c < r.size(); ++c)
-        if (table.column_labels[c].rfind(muscle + ".", 0) == 0) {
-          EXPECT_TRUE(std::isfinite(r[c])) << table.column_labels[c] << " frame " << row;
-        }
-      EXPECT_NEAR(r[volume], 1.0, 2e-3) << muscle << " frame " << row;
-      EXPECT_LE(r[end_offset], 0.5) << muscle << ": a fibre end left its place on its bone at frame " << row;
-      most_outside = std::max(most_outside, r[outside]);
-      if (holds(checks.fibres_inside, muscle)) {
-        EXPECT_EQ(r[outside], 0.0) << muscle << " fibre points outside at frame " << row;
-      }
-      if (holds(checks.fibres_monotone, muscle) && row > 0) {
-        if (muscle == "glmax_r") EXPECT_GT(r[fibre], table.rows[row - 1][fibre]) << muscle << " lengthens, frame " << row;
-        else EXPECT_LT(r[fibre], table.rows[row - 1][fibre]) << muscle << " shortens, frame " << row;
-      }
+      most_outside = std::max(most_outside, checkOutputs(table, row, muscle, checks));
       const FrameGeometry g = readFrame(out / "meshes", muscle, static_cast<int>(row));
-      const std::vector<char> used = findUsed(g);
-      const int pieces = countPieces(g);
-      most_pieces = std::max(most_pieces, pieces);
       if (holds(checks.one_piece, muscle)) {
-        EXPECT_EQ(pieces, 1) << muscle << "'s tracked surface at frame " << row;
+        EXPECT_EQ(countPieces(g), 1) << muscle << "'s tracked surface at frame " << row;
       }
-      const Eigen::Isometry3d X_FG = femur_motion[row].inverse();
-      const Eigen::Isometry3d femur_step = row > 0 ? femur_motion[row] * femur_motion[row - 1].inverse()
-                                                   : Eigen::Isometry3d::Identity();
-      for (Eigen::Index v = 0; v < g.vertices_mm.cols(); ++v) {
-        if (!used[static_cast<size_t>(v)]) continue;
-        const Eigen::Vector3d y = g.vertices_mm.col(v);
-        const double depth = std::max({femur.calcDepth(X_FG * y), ilium.calcDepth(y), sacrum.calcDepth(y)});
-        if (depth > worst_depth) {
-          worst_depth = depth;
-          worst_depth_frame = static_cast<int>(row);
-        }
-        // A vertex that found no surface in the previous frame lay where a bone held the muscle;
-        // the surface there was the bone's contact patch, which the tracked mesh leaves out.
-        if (!previous || !previous_used[static_cast<size_t>(v)]) continue;
-        const double allowance = (femur_step.inverse() * y - y).norm() + 1.0;  // the femur's move at y
-        const double jump = previous->calcUnsignedDistance(y) - allowance;
-        if (jump > worst_jump) {
-          worst_jump = jump;
-          worst_jump_frame = static_cast<int>(row);
-        }
-      }
-      TriangleMesh surface;
-      surface.vertices_mm = g.vertices_mm;
-      surface.triangles = g.triangles;
-      previous = std::make_unique<MeshDistance>(std::move(surface), false);
-      previous_used = used;
+      const Eigen::Isometry3d femur_step =
+          row > 0 ? femur_motion[row] * femur_motion[row - 1].inverse() : Eigen::Isometry3d::Identity();
+      watch.addFrame(g, static_cast<int>(row), femur_motion[row], femur_step);
     }
+    const int ratio = table.findColumn(muscle + ".fibre_length_ratio");
     std::printf("%s %s: deepest tracked vertex in a bone %.3f mm (frame %d); worst jump beyond the femur's move + 1 mm "
                 "%.3f mm (frame %d); fibre length ratio at the last frame %.3f; most fibre points outside %.0f; most pieces of "
                 "the tracked surface %d\n",
-                scene.c_str(), muscle.c_str(), worst_depth, worst_depth_frame, worst_jump, worst_jump_frame,
-                table.rows.back()[fibre], most_outside, most_pieces);
-    EXPECT_LE(worst_depth, 0.5) << muscle << " at frame " << worst_depth_frame;
+                scene.c_str(), muscle.c_str(), watch.worst_depth, watch.worst_depth_frame, watch.worst_jump,
+                watch.worst_jump_frame, ratio >= 0 ? table.rows.back()[static_cast<size_t>(ratio)] : NAN,
+                most_outside, watch.most_pieces);
+    EXPECT_LE(watch.worst_depth, 0.5) << muscle << " at frame " << watch.worst_depth_frame;
     if (holds(checks.jump_checked, muscle)) {
-      EXPECT_LE(worst_jump, 0.0) << muscle << " at frame " << worst_jump_frame;
+      EXPECT_LE(watch.worst_jump, 0.0) << muscle << " at frame " << watch.worst_jump_frame;
     }
   }
   fs::remove_all(out);
