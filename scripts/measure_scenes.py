@@ -14,7 +14,10 @@ import json
 import os
 import statistics
 import subprocess
+import sys
 import tempfile
+
+import numpy as np
 
 from readme_section import replace_readme_section
 from run_outputs import read_outputs
@@ -67,14 +70,29 @@ def table(results):
     return "\n".join(lines)
 
 
+def flexion_axis(skeleton_model):
+    """Unit axis (ground) about which hip_flexion_r turns the femur in models/hip/SKELETON_MODEL.xml,
+    from the femur's poses at rest and at 0.5 rad by the Python module (build/python)."""
+    sys.path.insert(0, os.path.join(ROOT, "build", "python"))
+    import rbfmuscle
+    model = rbfmuscle.Model(os.path.join(ROOT, "models", "hip", skeleton_model + ".xml"))
+    rest = model.body_transform("femur_r")
+    model.step({"hip_flexion_r": 0.5})
+    turn = (model.body_transform("femur_r") @ np.linalg.inv(rest))[:3, :3]
+    axis = np.array([turn[2, 1] - turn[1, 2], turn[0, 2] - turn[2, 0], turn[1, 0] - turn[0, 1]])
+    return axis / np.linalg.norm(axis)
+
+
 def axes_comparison(urdf, osim):
     """The same muscles flexed about the URDF scene's axis and about the subject's own OpenSim
-    joint, whose flexion axis lies 6.99° away (models/hip/README.md, "The two flexion axes")."""
+    joint (models/hip/README.md, "The two flexion axes")."""
     pairs = ", ".join(f"{u['muscle']} {u['fibre'][1]:.3f} against {o['fibre'][1]:.3f}"
                       for u, o in zip(urdf, osim) if u["muscle"] == o["muscle"])
+    cosine = abs(float(flexion_axis("skeleton_flexion") @ flexion_axis("skeleton_flexion_osim")))
     return ("`hip_flexion_osim` flexes the same muscles about the subject's own OpenSim hip joint, whose "
-            "flexion axis lies 6.99° from the URDF scene's (`models/hip/README.md`); fibre length ratio at the "
-            f"last frame, URDF against OpenSim joint: {pairs}.")
+            f"flexion axis lies {np.degrees(np.arccos(min(cosine, 1.0))):.2f}° from the URDF scene's "
+            "(`models/hip/README.md`); fibre length ratio at the last frame, URDF against OpenSim joint: "
+            f"{pairs}.")
 
 
 def main():

@@ -5,6 +5,7 @@
 /// NumPy arrays. Frames run without the GIL.
 #include "loaded_model.h"
 #include "model/motion.h"
+#include "model/skeleton.h"
 #include "python_support.h"
 
 #include <pybind11/stl.h>
@@ -171,6 +172,20 @@ class PyModel {
 
   int frames() const { return loaded_->getSession().getNumFrames(); }
 
+  /// X_GB of a body at the coordinates last stepped: 4×4, translation in mm.
+  py::array_t<double> bodyTransform(const std::string& body) const {
+    const auto lock = claim();
+    const Skeleton& skeleton = model().getSkeleton();
+    const int index = skeleton.findBodyIndex(body);
+    if (index < 0) throw py::key_error("no body '" + body + "' (bodies: " + joined(skeleton.getBodyNames()) + ")");
+    const Eigen::Matrix4d X_GB = skeleton.getBodyTransform(index).matrix();
+    py::array_t<double> out({py::ssize_t{4}, py::ssize_t{4}});
+    auto view = out.mutable_unchecked<2>();
+    for (py::ssize_t i = 0; i < 4; ++i)
+      for (py::ssize_t j = 0; j < 4; ++j) view(i, j) = X_GB(i, j);
+    return out;
+  }
+
  private:
   static std::string joined(const std::vector<std::string>& names) {
     std::string text;
@@ -311,6 +326,9 @@ geometry=True the components prepare their surface and fibres (surface(), fibres
            "The last frame's geometry (ground, mm) by name: vertices_mm (n×3), triangles (m×3), polylines.")
       .def("surface", &PyModel::surface, py::arg("component"),
            "The component's surface in the last frame: (vertices_mm n×3, triangles m×3).")
+      .def("body_transform", &PyModel::bodyTransform, py::arg("body"),
+           "Pose X_GB of a body in ground at the coordinates last stepped (the rest pose before the first step): "
+           "a 4×4 array, translation in mm.")
       .def("fibres", &PyModel::fibres, py::arg("component"),
            "The component's fibres in the last frame (ground, mm): fibres × points × 3.");
 }

@@ -108,6 +108,22 @@ def test_bad_coordinates_raise_before_the_frame(flexion):
     assert flexion.frame == 0
 
 
+def test_body_transform_turns_the_femur_by_the_flexion_angle():
+    """The bare skeleton: flexing the hip by 0.5 rad turns the femur by 0.5 rad about a fixed
+    axis and leaves the pelvis where it was."""
+    skeleton = rbfmuscle.Model(str(SOURCE / "models" / "hip" / "skeleton_flexion.xml"))
+    pelvis_rest, femur_rest = skeleton.body_transform("pelvis"), skeleton.body_transform("femur_r")
+    skeleton.step({"hip_flexion_r": 0.5})
+    np.testing.assert_allclose(skeleton.body_transform("pelvis"), pelvis_rest, rtol=0, atol=1e-12)
+    turn = skeleton.body_transform("femur_r") @ np.linalg.inv(femur_rest)
+    rotation = turn[:3, :3]
+    np.testing.assert_allclose(rotation @ rotation.T, np.eye(3), rtol=0, atol=1e-12)
+    assert np.arccos((np.trace(rotation) - 1.0) / 2.0) == pytest.approx(0.5, abs=1e-9)
+    np.testing.assert_array_equal(turn[3], [0.0, 0.0, 0.0, 1.0])
+    with pytest.raises(KeyError, match="no body 'tibia_r'.*femur_r"):
+        skeleton.body_transform("tibia_r")
+
+
 def test_frames_release_the_gil(flexion):
     """While a run computes its frames in another thread, this thread keeps running Python."""
     span = {}
