@@ -123,13 +123,13 @@ int interruptRun(const fs::path& dir, const fs::path& out, int signal_number, bo
   std::vector<std::string> args = {"run", writeLongRun(dir).string(), "-o", out.string()};
   args.insert(args.end(), extra.begin(), extra.end());
   const Child child = startHost(args, dir);
-  const bool ready = waitFor(child.pid, 300, [&] {
+  const bool ready = waitFor(child.pid, 300 * RBFMUSCLE_TEST_TIME_SCALE, [&] {
     if (partials(out).empty()) return false;
     return during_init || test::readText(child.err).find("] frame 1/") != std::string::npos;
   });
   EXPECT_TRUE(ready) << test::readText(child.err);
   kill(child.pid, signal_number);
-  return waitExit(child.pid, 60);
+  return waitExit(child.pid, 60 * RBFMUSCLE_TEST_TIME_SCALE);
 }
 
 TEST(Interrupt, SigintDuringTheFrameLoopExits130AndLeavesNoPartialDirectory) {
