@@ -5,12 +5,15 @@
 Runs each scene once through build/bin/rbfmuscle with every muscle's `moment_arms` set to the
 scene's coordinate (a central difference that re-runs each frame at q ± 0.01 rad), then draws per
 muscle the mean over fibres, the range of the middle 80 % of fibres and the line of action's moment
-arm against the angle (docs/pictures/moment_arms_<scene>.png), and prints a table of the values at
-a few angles (scripts/validate_moment_arms.py sets the flexion's beside published ones in README.md).
+arm against the angle (against the frame where the angle goes back and forth, as in the gait cycle;
+docs/pictures/moment_arms_<scene>.png), and writes a table of the values at a few frames into
+docs/moment_arms.md (scripts/validate_moment_arms.py sets the flexion's beside published ones in
+README.md).
 Moment arms follow OpenSim's sign:
 r = −∂l/∂q, mm per rad (positive: the muscle shortens as the angle grows).
 
 Usage: /usr/bin/python3 scripts/moment_arms.py [--scenes hip_flexion:hip_flexion_r,...] [--no-write]
+(the default: every hip scene about its own coordinate, the gait cycle about the flexion)
 Needs python3-numpy and python3-matplotlib (Debian) and a built host.
 """
 import argparse
@@ -20,6 +23,7 @@ import tempfile
 
 import numpy as np
 
+from readme_section import replace_readme_section
 from run_outputs import read_outputs
 
 
@@ -55,15 +59,18 @@ def draw(scene, coordinate, angle_deg, result, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    steps = np.diff(angle_deg)
+    by_angle = bool(np.all(steps > 0) or np.all(steps < 0))
+    x = angle_deg if by_angle else np.arange(len(angle_deg))
     fig, axes = plt.subplots(1, len(MUSCLES), figsize=(4.2 * len(MUSCLES), 3.6), sharex=True)
     for ax, m in zip(axes, MUSCLES):
         r = result[m]
-        ax.fill_between(angle_deg, r["p10"], r["p90"], color="#c0392b", alpha=0.2, label="fibres, 10–90 %")
-        ax.plot(angle_deg, r["mean"], color="#c0392b", label="fibres, mean")
-        ax.plot(angle_deg, r["line"], color="#34495e", linestyle="--", label="line of action")
+        ax.fill_between(x, r["p10"], r["p90"], color="#c0392b", alpha=0.2, label="fibres, 10–90 %")
+        ax.plot(x, r["mean"], color="#c0392b", label="fibres, mean")
+        ax.plot(x, r["line"], color="#34495e", linestyle="--", label="line of action")
         ax.axhline(0.0, color="#999999", linewidth=0.5)
         ax.set_title(m)
-        ax.set_xlabel(f"{coordinate} (deg)")
+        ax.set_xlabel(f"{coordinate} (deg)" if by_angle else f"frame ({coordinate} goes back and forth)")
     axes[0].set_ylabel("moment arm −∂l/∂q (mm)")
     axes[0].legend(fontsize=8)
     fig.suptitle(f"{scene}: moment arms about {coordinate}")
@@ -73,8 +80,9 @@ def draw(scene, coordinate, angle_deg, result, path):
 
 
 def table(results):
-    lines = ["Moment arms (mm) at five frames evenly spaced over each motion, as angle: mean over fibres / "
-             "line of action, by `scripts/moment_arms.py`:", "",
+    lines = ["Moment arms (mm, OpenSim's sign: positive where the muscle shortens as the angle grows) at five "
+             "frames evenly spaced over each motion, as angle: mean over fibres / line of action, by "
+             "`scripts/moment_arms.py`:", "",
              "| scene | muscle |" + " |" * TABLE_FRAMES, "|---|---|" + "---|" * TABLE_FRAMES]
     for scene, (coordinate, angle_deg, result) in results.items():
         frames = np.linspace(0, len(angle_deg) - 1, TABLE_FRAMES).round().astype(int)
@@ -86,7 +94,8 @@ def table(results):
 
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--scenes", default="hip_flexion:hip_flexion_r,hip_adduction:hip_adduction_r")
+    parser.add_argument("--scenes", default="hip_flexion:hip_flexion_r,hip_adduction:hip_adduction_r,"
+                        "hip_rotation:hip_rotation_r,hip_gait:hip_flexion_r")
     parser.add_argument("--no-write", action="store_true", help="print the table, draw no picture")
     args = parser.parse_args()
     results = {}
@@ -99,7 +108,11 @@ def main():
             if not args.no_write:
                 draw(scene, coordinate, angle_deg, result, picture)
                 print("wrote", os.path.relpath(picture, ROOT))
-    print(table(results))
+    text = table(results)
+    print(text)
+    if not args.no_write:
+        replace_readme_section("moment arms", text, "docs/moment_arms.md")
+        print("wrote docs/moment_arms.md")
 
 
 if __name__ == "__main__":

@@ -3,8 +3,9 @@
 /// through the host as the README does, with their frame meshes. At every frame, for every
 /// muscle: finite outputs, the volume held, and every tracked surface vertex at most 0.5 mm
 /// inside the femur, the ilium or the sacrum (exact distance to the posed meshes), and every
-/// fibre end within 0.5 mm of its place on its bone; for the gluteus and the iliacus also every
-/// fibre point inside, and in flexion, adduction and gait the gluteus's tracked surface in one
+/// fibre end within 0.5 mm of its place on its bone, and its hip flexion moment arm of the
+/// published sign (the gluteus extends the hip, the iliacus and the psoas flex it); for the
+/// gluteus and the iliacus also every fibre point inside, and in flexion, adduction and gait the gluteus's tracked surface in one
 /// piece (also the iliacus's in gait). Where a muscle lies on a bone its tracked vertices find no
 /// surface and their triangles are dropped, which cuts the tracked mesh of the iliacus and the
 /// psoas in flexion and of the gluteus in two frames of the rotation; the pieces are printed.
@@ -15,7 +16,8 @@
 /// moves there plus 1 mm. What does not hold yet is measured and printed here and asserted in the
 /// disabled tests below, named for what fails: the iliacus and the psoas jump by up to about
 /// 2 mm more than that beside the patches where they lie on a bone, and the psoas leaves up to
-/// about 70 fibre points outside where it crosses the pelvic brim, its fibres not shortening.
+/// about 70 fibre points outside where it crosses the pelvic brim, its fibres not shortening,
+/// and its flexion moment arm turns negative from about 45° of flexion.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -100,7 +102,15 @@ struct SceneChecks {
   std::vector<std::string> fibres_inside{"glmax_r", "iliacus_r"};  ///< every fibre point inside
   std::vector<std::string> fibres_monotone;  ///< the gluteus lengthens, the others shorten
   std::vector<std::string> jump_checked;     ///< surface jumps asserted
+  /// the sign of the hip flexion moment arm (mean over fibres) asserted at every frame
+  std::vector<std::string> flexion_sign = kMuscles;
 };
+
+/// Sign of each muscle's hip flexion moment arm (OpenSim's: + when the muscle shortens as the
+/// hip flexes) that every source of models/reference agrees on: the gluteus maximus extends the
+/// hip, the iliacus and the psoas flex it. (Their adduction and rotation moment arms are small
+/// and change sign between fibres and between studies; no sign is asserted for them.)
+double publishedFlexionSign(const std::string& muscle) { return muscle == "glmax_r" ? -1.0 : 1.0; }
 
 bool holds(const std::vector<std::string>& muscles, const std::string& muscle) {
   return std::find(muscles.begin(), muscles.end(), muscle) != muscles.end();
@@ -139,6 +149,10 @@ double checkOutputs(const StorageTable& table, size_t row, const std::string& mu
                                                         << row;
   if (holds(checks.fibres_inside, muscle)) {
     EXPECT_EQ(r[outside], 0.0) << muscle << " fibre points outside at frame " << row;
+  }
+  if (holds(checks.flexion_sign, muscle)) {
+    EXPECT_GT(publishedFlexionSign(muscle) * r[column("moment_arm_hip_flexion_r_mm")], 0.0)
+        << muscle << "'s hip flexion moment arm has the wrong sign at frame " << row;
   }
   if (holds(checks.fibres_monotone, muscle) && row > 0) {
     if (muscle == "glmax_r") EXPECT_GT(r[fibre], table.rows[row - 1][fibre]) << muscle << " lengthens, frame " << row;
@@ -199,9 +213,11 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
   const std::string tag = scene + "_" + std::to_string(::getpid());
   const fs::path out = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin" / tag;
   fs::remove_all(out);
+  std::string moment_arms;
+  for (const std::string& muscle : checks.muscles) moment_arms += " --set " + muscle + ".moment_arms=hip_flexion_r";
   const test::HostResult result = test::runHost(
       "run '" + (kHip / (scene + ".xml")).string() + "' -o '" + out.string() + "' --motion '" + motion_path.string() +
-          "' --quiet --frames-mesh",
+          "' --quiet --frames-mesh" + moment_arms,
       "plugin", tag);
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const StorageTable table = readStorage((out / "outputs.sto").string());
@@ -238,6 +254,7 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
 
 TEST(HipScenes, FlexionKeepsVolumeAndTheMusclesOutOfTheBonesGluteusLengthensIliacusShortensGluteusDoesNotJump) {
   SceneChecks checks;
+  checks.flexion_sign = {"glmax_r", "iliacus_r"};
   checks.fibres_monotone = {"glmax_r", "iliacus_r"};
   checks.jump_checked = {"glmax_r"};
   checks.one_piece = {"glmax_r"};
@@ -287,12 +304,15 @@ TEST(HipScenes, DISABLED_GluteusBeyond97DegreesLosesTrianglesOnTheFemurIn2To4Pie
 
 TEST(HipScenes, DISABLED_FlexionIliacusAndPsoasJumpUpTo2mmBeyondTheFemursMoveBesideTheirBoneContactPatches) {
   SceneChecks checks;
+  checks.flexion_sign = {"glmax_r", "iliacus_r"};
   checks.jump_checked = {"iliacus_r", "psoas_r"};
   checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
 }
 
-TEST(HipScenes, DISABLED_FlexionPsoasLeavesFibrePointsOutsideAtThePelvicBrimAndItsFibresDoNotShorten) {
+TEST(HipScenes,
+     DISABLED_FlexionPsoasLeavesFibrePointsOutsideAtThePelvicBrimItsFibresDoNotShortenAndItsFlexionArmTurnsNegative) {
   SceneChecks checks;
+  checks.flexion_sign = {"psoas_r"};
   checks.fibres_inside = {"psoas_r"};
   checks.fibres_monotone = {"psoas_r"};
   checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
