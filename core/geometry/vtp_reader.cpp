@@ -160,9 +160,10 @@ void readFileAttributes(const tinyxml2::XMLElement& vtk, FileContext& f) {
 /// The encoding of the appended data (base64 or raw), from its start tag, into `f`.
 void readAppendedEncoding(const std::string& appended_tag, FileContext& f) {
   tinyxml2::XMLDocument tag;
-  if (tag.Parse(appended_tag.c_str()) != tinyxml2::XML_SUCCESS)
-    fail(f, f.appended_line, "cannot read the <AppendedData> tag");
-  const char* encoding = tag.FirstChildElement("AppendedData")->Attribute("encoding");
+  const tinyxml2::XMLElement* element =
+      tag.Parse(appended_tag.c_str()) == tinyxml2::XML_SUCCESS ? tag.FirstChildElement("AppendedData") : nullptr;
+  if (!element) fail(f, f.appended_line, "cannot read the <AppendedData> tag");
+  const char* encoding = element->Attribute("encoding");
   if (encoding && std::strcmp(encoding, "raw") == 0) f.appended_raw = true;
   else if (!encoding || std::strcmp(encoding, "base64") != 0)
     fail(f, f.appended_line, std::string("AppendedData encoding '") + (encoding ? encoding : "") +

@@ -292,10 +292,34 @@ UrdfDescription readUrdf(const std::string& path) {
   return parseUrdf(text.str(), path);
 }
 
+namespace {
+
+/// Offset of the first byte of `text` that does not start or continue a whole UTF-8 character
+/// (NUL included), or npos.
+size_t findInvalidUtf8(const std::string& text) {
+  for (size_t i = 0; i < text.size();) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    const size_t more = (c & 0xE0) == 0xC0 ? 1 : (c & 0xF0) == 0xE0 ? 2 : (c & 0xF8) == 0xF0 ? 3 : 0;
+    if (c == 0 || (c >= 0x80 && more == 0) || i + more >= text.size()) return i;
+    for (size_t k = 1; k <= more; ++k)
+      if ((static_cast<unsigned char>(text[i + k]) & 0xC0) != 0x80) return i;
+    i += 1 + more;
+  }
+  return std::string::npos;
+}
+
+}  // namespace
+
 UrdfDescription parseUrdf(const std::string& text, const std::string& path) {
   if (text.size() > kMaxUrdfFileBytes)
     throw ModelError(where(path, std::to_string(text.size()) + " bytes, more than the " +
                                      std::to_string(kMaxUrdfFileBytes) + " a URDF file may have"));
+  // urdfdom's TinyXML 2.6 trusts a UTF-8 lead byte and reads past the end of the text when the
+  // bytes it announces are missing (found by fuzz_urdf), so the text is checked first.
+  const size_t bad = findInvalidUtf8(text);
+  if (bad != std::string::npos)
+    throw ModelError(where(path, "line " + std::to_string(1 + std::count(text.begin(), text.begin() + bad, '\n')) +
+                                     ": byte " + std::to_string(bad) + " is not valid UTF-8 (expected a UTF-8 text)"));
   urdf::ModelInterfaceSharedPtr model;
   std::string log;
   {

@@ -373,6 +373,13 @@ TEST(VtpReader, AnOffsetBeyondAnyCountIsRefusedBeforeItBecomesOne) {
                   {path + ": line 6: DataArray 'offsets' of Polys: offset 4 (", "is more than a file of 775 bytes can hold"});
 }
 
+// Found by fuzz_vtp: the appended data's start tag read as XML of another name
+// (<AppendedDataDataArray ...>) left no <AppendedData> element, which was used unchecked.
+TEST(VtpReader, AnAppendedTagOfAnotherNameIsRefused) {
+  const std::string path = std::string(RBFMUSCLE_SOURCE_DIR) + "/tests/unit/geometry/data/fuzz/appended_tag_of_another_name.vtp";
+  expectMeshError([&] { readVtpPolyData(path); }, {path + ": line ", "cannot read the <AppendedData> tag"});
+}
+
 TEST(VtpReader, TruncatedFilesAreNamed) {
   const auto dir = makeTempDir("vtp_truncated");
   std::string full;

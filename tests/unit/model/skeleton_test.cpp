@@ -311,6 +311,13 @@ TEST(SkeletonErrors, UrdfInertiaNoBodyCanHaveIsRefusedNamingTheLink) {
                     "at most the sum of the other two"});
 }
 
+// Found by fuzz_urdf: the hip URDF cut inside a name of UTF-8 lead bytes. urdfdom's TinyXML read
+// past the end of the text (a heap overflow under AddressSanitizer).
+TEST(SkeletonErrors, UrdfEndingInsideAUtf8CharacterIsRefusedBeforeUrdfdomReadsIt) {
+  const std::string path = std::string(RBFMUSCLE_SOURCE_DIR) + "/tests/unit/model/data/fuzz/utf8_lead_byte_at_the_end.urdf";
+  expectModelError([&] { Skeleton::fromUrdf(path); }, {"URDF " + path, "is not valid UTF-8"});
+}
+
 TEST(SkeletonErrors, UrdfNegativeOrHugeMassAndFarInertialOriginAreRefused) {
   TempFile f("bad_mass.urdf");
   f.write(R"(<robot name="r"><link name="a"><inertial><mass value="-1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link></robot>)");
