@@ -172,11 +172,13 @@ class SurfaceWatch {
  public:
   explicit SurfaceWatch(const SceneBones& bones) : bones_(bones) {}
 
-  /// Adds frame `row`, the femur moved by `femur_motion` (rest → frame) and by `femur_step` since the last frame.
-  void addFrame(const FrameGeometry& g, int row, const Eigen::Isometry3d& femur_motion,
-                const Eigen::Isometry3d& femur_step) {
+  /// Adds frame `row`, the femur moved by `femur_motion` (rest → frame) and by `femur_step` since
+  /// the last frame; returns the frame's pieces.
+  int addFrame(const FrameGeometry& g, int row, const Eigen::Isometry3d& femur_motion,
+               const Eigen::Isometry3d& femur_step) {
     const std::vector<char> used = findUsed(g);
-    most_pieces = std::max(most_pieces, countPieces(g));
+    const int pieces = countPieces(g);
+    most_pieces = std::max(most_pieces, pieces);
     const Eigen::Isometry3d X_FG = femur_motion.inverse();
     for (Eigen::Index v = 0; v < g.vertices_mm.cols(); ++v) {
       if (!used[static_cast<size_t>(v)]) continue;
@@ -195,6 +197,7 @@ class SurfaceWatch {
     surface.triangles = g.triangles;
     previous_ = std::make_unique<MeshDistance>(std::move(surface), false);
     previous_used_ = used;
+    return pieces;
   }
 
   double worst_depth = 0.0, worst_jump = -1e9;
@@ -229,13 +232,13 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
     SurfaceWatch watch(bones);
     for (size_t row = 0; row < table.rows.size(); ++row) {
       most_outside = std::max(most_outside, checkOutputs(table, row, muscle, checks));
-      const FrameGeometry g = readFrame(out / "meshes", muscle, static_cast<int>(row));
-      if (holds(checks.one_piece, muscle)) {
-        EXPECT_EQ(countPieces(g), 1) << muscle << "'s tracked surface at frame " << row;
-      }
       const Eigen::Isometry3d femur_step =
           row > 0 ? femur_motion[row] * femur_motion[row - 1].inverse() : Eigen::Isometry3d::Identity();
-      watch.addFrame(g, static_cast<int>(row), femur_motion[row], femur_step);
+      const int pieces = watch.addFrame(readFrame(out / "meshes", muscle, static_cast<int>(row)), static_cast<int>(row),
+                                        femur_motion[row], femur_step);
+      if (holds(checks.one_piece, muscle)) {
+        EXPECT_EQ(pieces, 1) << muscle << "'s tracked surface at frame " << row;
+      }
     }
     const int ratio = table.findColumn(muscle + ".fibre_length_ratio");
     std::printf("%s %s: deepest tracked vertex in a bone %.3f mm (frame %d); worst jump beyond the femur's move + 1 mm "
