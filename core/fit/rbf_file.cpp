@@ -25,38 +25,24 @@ class RecordReader {
   /// Fails at the first non-comment line left in the file (records beyond the declared count).
   void expectEnd(const std::string& what) {
     std::string line;
-    while (std::getline(in_, line)) {
-      ++line_number_;
-      if (line.empty() || line[0] == '#') continue;
-      fail(what);
-    }
+    if (nextRecord(line)) fail(what);
   }
 
   /// Next non-comment line split at its first space into key and rest.
   void next(const std::string& expected_key, std::string& rest) {
     std::string line;
-    while (std::getline(in_, line)) {
-      ++line_number_;
-      if (line.empty() || line[0] == '#') continue;
-      const std::size_t space = line.find(' ');
-      const std::string key = line.substr(0, space);
-      if (key != expected_key) fail("expected '" + expected_key + "', found '" + key + "'");
-      rest = space == std::string::npos ? "" : line.substr(space + 1);
-      return;
-    }
-    fail("file ends before '" + expected_key + "'");
+    if (!nextRecord(line)) fail("file ends before '" + expected_key + "'");
+    const std::size_t space = line.find(' ');
+    const std::string key = line.substr(0, space);
+    if (key != expected_key) fail("expected '" + expected_key + "', found '" + key + "'");
+    rest = space == std::string::npos ? "" : line.substr(space + 1);
   }
 
   /// Next non-comment line as `count` numbers.
   void nextNumbers(int count, double* values) {
     std::string line;
-    while (std::getline(in_, line)) {
-      ++line_number_;
-      if (line.empty() || line[0] == '#') continue;
-      parseNumbers(line, count, values);
-      return;
-    }
-    fail("file ends early: expected " + std::to_string(count) + " numbers");
+    if (!nextRecord(line)) fail("file ends early: expected " + std::to_string(count) + " numbers");
+    parseNumbers(line, count, values);
   }
 
   void parseNumbers(const std::string& text, int count, double* values) const {
@@ -77,6 +63,17 @@ class RecordReader {
   }
 
  private:
+  /// Next line that is neither empty nor a comment, without the CR a file with Windows line
+  /// ends has before each LF; false at the end of the file.
+  bool nextRecord(std::string& line) {
+    while (std::getline(in_, line)) {
+      ++line_number_;
+      if (!line.empty() && line.back() == '\r') line.pop_back();
+      if (!line.empty() && line[0] != '#') return true;
+    }
+    return false;
+  }
+
   std::string path_;
   std::istream& in_;
   int line_number_ = 0;

@@ -88,6 +88,21 @@ TEST(RbfFile, ParseFromMemoryEqualsReadingTheFile) {
   }
 }
 
+TEST(RbfFile, WindowsLineEndsReadAsTheSameSurface) {
+  const std::string path = (testDir() / "lf.rbf").string();
+  writeRbfFile(path, makeSurface());
+  std::ifstream in(path);
+  std::string crlf;
+  for (std::string line; std::getline(in, line);) crlf += line + "\r\n";
+  const RbfSurface lf = readRbfFile(path), windows = parseRbfText(crlf, "crlf.rbf");
+  EXPECT_EQ(windows.field.getCentres(), lf.field.getCentres());
+  EXPECT_EQ(windows.field.getWeights(), lf.field.getWeights());
+  EXPECT_EQ(windows.field.getShapes(), lf.field.getShapes());
+  EXPECT_EQ(windows.source_hash, lf.source_hash);
+  EXPECT_EQ(windows.settings, lf.settings);
+  EXPECT_EQ(windows.metrics_json, lf.metrics_json);
+}
+
 TEST(RbfFile, ErrorsNameFileAndLine) {
   EXPECT_NE(readError("").find("bad.rbf:0: file ends before 'rbfmuscle_rbf'"), std::string::npos);
   EXPECT_NE(readError("rbfmuscle_rbf 2\n").find("bad.rbf:1: unsupported version '2'"), std::string::npos);
@@ -157,7 +172,7 @@ TEST(RbfFile, HugeCentreCountIsRefusedBeforeAllocation) {
 }
 
 TEST(RbfFile, PathThatIsADeviceOrDirectoryIsRefusedWithoutReading) {
-  for (const std::string path : {std::string("/dev/zero"), testDir().string()}) {
+  for (const std::string& path : {std::string("/dev/zero"), testDir().string()}) {
     try {
       readRbfFile(path);
       ADD_FAILURE() << "no error for " << path;
