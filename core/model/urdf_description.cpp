@@ -30,11 +30,14 @@ class CaptureLog : public console_bridge::OutputHandler {
   CaptureLog& operator=(const CaptureLog&) = delete;
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
     if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) text_ += (text_.empty() ? "" : "; ") + text;
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) has_error_ = true;
   }
   const std::string& text() const { return text_; }
+  bool hasError() const { return has_error_; }
 
  private:
   std::string text_;
+  bool has_error_ = false;
 };
 
 std::string where(const std::string& urdf_path, const std::string& what);
@@ -157,9 +160,10 @@ void addLink(const std::string& urdf_path, const urdf::Link& link, int parent,
         const Eigen::Vector3d a(joint->axis.x, joint->axis.y, joint->axis.z);
         if (!a.allFinite())
           throw ModelError(where(urdf_path, "joint '" + joint->name + "' has a non-finite axis"));
-        if (!(a.norm() > 1e-12))
+        const double length = a.stableNorm();  // a plain norm overflows for components near 1e300
+        if (!(length > 1e-12))
           throw ModelError(where(urdf_path, "joint '" + joint->name + "' has a zero axis"));
-        l.axis_J = a.normalized();
+        l.axis_J = a / length;
         break;
       }
       default: {
@@ -322,6 +326,7 @@ UrdfDescription parseUrdf(const std::string& text, const std::string& path) {
                                      ": byte " + std::to_string(bad) + " is not valid UTF-8 (expected a UTF-8 text)"));
   urdf::ModelInterfaceSharedPtr model;
   std::string log;
+  bool dropped = false;
   {
     CaptureLog capture;
     try {
@@ -330,9 +335,14 @@ UrdfDescription parseUrdf(const std::string& text, const std::string& path) {
       throw ModelError(where(path, std::string("urdfdom could not parse it: ") + e.what()));
     }
     log = capture.text();
+    dropped = capture.hasError();
   }
   if (!model || !model->getRoot())
     throw ModelError(where(path, "urdfdom could not parse it" + (log.empty() ? "" : ": " + log)));
+  // urdfdom reports an element it cannot read (an origin "nan 0 0" or "abc")
+  // and returns the model without it, and without the link's other collision or visual elements:
+  // a bone would silently leave the contacts.
+  if (dropped) throw ModelError(where(path, "urdfdom left out what it could not read: " + log));
   // urdfdom's links hold their children by shared_ptr, so links whose joints form a cycle (refused
   // by checkTree) keep each other alive: unlink them whenever the model is dropped.
   struct BreakLinkCycles {
