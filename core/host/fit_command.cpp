@@ -4,6 +4,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <set>
 #include <sstream>
 #include <string>
 
@@ -88,10 +89,13 @@ void checkWritable(const std::string& path) {
 FitJob parseFitArguments(const std::vector<std::string>& args, bool require_output) {
   FitJob job;
   FitSettings& settings = job.settings;
+  std::set<std::string> given;  // every option with a value takes one: a second would silently replace it
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
     auto value = [&]() -> std::string {
       if (i + 1 >= args.size()) throw UsageError("fit: " + arg + " needs a value");
+      const std::string option = arg == "--output" ? "-o" : arg;
+      if (!given.insert(option).second) throw UsageError("fit: option " + option + " is given twice");
       return args[++i];
     };
     if (arg == "-h" || arg == "--help") {

@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
+#include <set>
 
 namespace rbfmuscle {
 namespace {
@@ -94,11 +95,15 @@ struct CommandLine {
 /// Parses the options of `run` (with_run = true) or `info`.
 CommandLine parseCommandLine(const std::vector<std::string>& args, bool with_run) {
   CommandLine line;
+  std::set<std::string> given;  // options of one value: a second would silently replace the first
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto value = [&]() -> std::string {
       if (i + 1 >= args.size()) throw UsageError("option " + a + " needs a value");
       return args[++i];
+    };
+    auto once = [&](const std::string& option) {
+      if (!given.insert(option).second) throw UsageError("option " + option + " is given twice");
     };
     if (a == "-h" || a == "--help") {
       line.help = true;
@@ -107,10 +112,12 @@ CommandLine parseCommandLine(const std::vector<std::string>& args, bool with_run
     } else if (a.size() > 2 && a.compare(0, 2, "-L") == 0) {
       line.plugins.push_back(a.substr(2));
     } else if (with_run && (a == "-o" || a == "--output")) {
+      once("-o");
       line.output = value();
     } else if (with_run && a == "--set") {
       line.overrides.push_back(value());
     } else if (with_run && a == "--motion") {
+      once(a);
       line.motion = value();
     } else if (with_run && a == "--report") {
       line.reports.push_back(value());

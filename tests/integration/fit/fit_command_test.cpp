@@ -98,7 +98,9 @@ TEST(FitCommand, BadCommandLinesExitWithUsage) {
   const std::string out = " -o " + (dir / "x.rbf").string();
   for (const std::string& args : {kShapes + "box.ply --centres ten" + out, kShapes + "box.ply --centres 0" + out,
                                   kShapes + "box.ply --bogus" + out, kShapes + "box.ply --centres 5",
-                                  std::string("--centres 5") + out, kShapes + "box.ply --gamma 2" + out}) {
+                                  std::string("--centres 5") + out, kShapes + "box.ply --gamma 2" + out,
+                                  kShapes + "box.ply --centres 5 --centres 6" + out,
+                                  kShapes + "box.ply --centres 5 --output y.rbf" + out}) {
     const HostResult r = runFit(args, "usage");
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
     EXPECT_NE(r.err.find("rbfmuscle: error: fit:"), std::string::npos) << r.err;

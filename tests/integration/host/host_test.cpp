@@ -188,6 +188,16 @@ TEST(Host, BadCommandLineGivesUsageAndExitCode2) {
   EXPECT_EQ(runHost("run --help", "help").exit_code, 0);
 }
 
+TEST(Host, AnOptionOfOneValueGivenTwiceIsAUsageError) {
+  // The second would silently replace the first (the output directory, the motion).
+  for (const std::string& args : {std::string("run a.xml -o x -o y"), std::string("run a.xml -o x --output y"),
+                                  std::string("run a.xml -o x --motion m.mot --motion n.mot")}) {
+    const HostResult r = runHost(args, "twice");
+    EXPECT_EQ(r.exit_code, 2) << args;
+    EXPECT_NE(r.err.find("is given twice"), std::string::npos) << r.err;
+  }
+}
+
 TEST(HostErrors, UnknownClassListsRegisteredOnes) {
   expectFailure("bad_unknown_class", {"bad_unknown_class.xml:7: <HillMuscle name=\"m\">",
                                       "unknown component class 'HillMuscle'",
