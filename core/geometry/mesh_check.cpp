@@ -36,13 +36,13 @@ std::vector<std::string> MeshReport::listProblems() const {
       "non-manifold edges (shared by more than two triangles) — the mesh is not a single "
       "closed surface");
   add(inconsistent_edges,
-      "inconsistently wound edges (neighbouring triangles face opposite ways) — fix with "
-      "orientConsistently or the --fix-winding option");
+      "inconsistently wound edges (neighbouring triangles face opposite ways) — wind them alike "
+      "in a mesh tool (`rbfmuscle fit --fix-winding` does it for a fit)");
   if (problems.empty() && !(signed_volume_mm3 > 0.0)) {
     std::ostringstream s;
     s << "signed volume " << signed_volume_mm3
-      << " mm³ is not positive — the triangles are wound inward; fix with orientConsistently "
-         "or the --fix-winding option";
+      << " mm³ is not positive — the triangles are wound inward; turn them outward in a mesh tool "
+         "(`rbfmuscle fit --fix-winding` does it for a fit)";
     problems.push_back(s.str());
   }
   return problems;
