@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <map>
 #include <sstream>
 #include <string>
@@ -307,6 +309,17 @@ TEST(OsimV3, GeometryTransformsAndScalesCompose) {
 }
 
 // ---------------------------------------------------------------- refused constructs
+
+TEST(OsimErrors, NegativeMassIsRefusedNamingTheBodyAndLineAndZeroIsMassless) {
+  std::ifstream in(kData + "three_bodies_v4.osim");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::string negative = text, zero = text;
+  negative.replace(negative.find("<mass>10</mass>"), 15, "<mass>-7</mass>");
+  expectModelError([&] { Skeleton::fromOsimText(negative, kData + "negative_mass.osim"); },
+                   {kData + "negative_mass.osim, line 14: <mass>: body 'pelvis': mass -7 kg: expected a finite mass from 0"});
+  zero.replace(zero.find("<mass>10</mass>"), 15, "<mass>0</mass>");
+  EXPECT_NO_THROW(Skeleton::fromOsimText(zero, kData + "zero_mass.osim"));
+}
 
 TEST(OsimErrors, RefusedConstructsNameTheElementAndLine) {
   const auto path = [](const char* file) { return kData + file; };
