@@ -50,7 +50,12 @@ class PyModel {
         const std::string name = py::str(key);
         const int index = skeleton.findCoordinateIndex(name);
         if (index < 0) throw py::key_error("no coordinate '" + name + "' (coordinates: " + joined(names) + ")");
-        q[index] = value.cast<double>();
+        try {
+          q[index] = value.cast<double>();
+        } catch (const py::cast_error&) {
+          throw py::type_error("coordinate '" + name + "': expected a number, got " +
+                               std::string(py::str(py::type::of(value).attr("__name__"))));
+        }
       }
     } else {
       const auto values = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(coordinates);

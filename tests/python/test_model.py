@@ -105,6 +105,8 @@ def test_bad_coordinates_raise_before_the_frame(flexion):
         flexion.step({"knee": 0.1})
     with pytest.raises(ValueError, match="hip_adduction_r"):
         flexion.step([0.0, np.nan, 0.0])
+    with pytest.raises(TypeError, match="coordinate 'hip_flexion_r': expected a number, got str"):
+        flexion.step({"hip_flexion_r": "0.5"})
     assert flexion.frame == 0
 
 
