@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "fit/sample_set.h"
+#include "geometry/iso_surface.h"
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_distance.h"
 #include "geometry/mesh_io.h"
@@ -67,6 +68,17 @@ PreparedMesh prepareMesh(const std::string& mesh_path, bool fix_winding, const F
          << " cells of the extracted surface (cell " << settings.surface_cell_mm
          << " mm): the fit could not be measured; scale the fit options to the mesh (cell, clamp, normal "
             "offset, shapes; scripts/fit_table.sh fits a 1 mm tetrahedron so) or check its units";
+    throw MeshError(text.str());
+  }
+  // The fit is measured on a surface extracted over the padded box: refuse a cell too fine for
+  // that before the fit rather than after it.
+  const std::array<std::int64_t, 3> nodes =
+      countIsoSurfaceNodes(calcPaddedBox(prepared.mesh_M, settings.padding_fraction), settings.surface_cell_mm);
+  if (double(nodes[0]) * double(nodes[1]) * double(nodes[2]) > kMaxIsoSurfaceNodes) {
+    std::ostringstream text;
+    text << mesh_path << ": a surface cell of " << settings.surface_cell_mm << " mm takes a grid of " << nodes[0] << "×"
+         << nodes[1] << "×" << nodes[2] << " nodes over this mesh, more than " << kMaxIsoSurfaceNodes
+         << "; use a larger cell";
     throw MeshError(text.str());
   }
   prepared.hash = hashFile(mesh_path);

@@ -17,6 +17,7 @@ struct FitSettings {
   /// ones, and a carved field tears when the motion moves the carving centres
   /// (docs/design.md, Fits).
   double clamp_mm = 10.0;
+  static constexpr double kMaxClamp_mm = 1e4;  ///< largest τ the fit takes (10 m: any muscle fits in it)
   double normal_offset_mm = 1.0;   ///< d: samples ±d along the vertex normals (mm)
   int halton_samples = 30000;      ///< Halton(2,3,5) samples in the padded box
   double padding_fraction = 0.1;   ///< box padding, fraction of the largest box side on each side

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 
 #include "rbf/spatial_grid.h"
@@ -26,6 +27,13 @@ struct CandidateChoice {
   double regularised = 1e300; ///< C_r of eq. 7.12 (lower is better)
 };
 
+/// A number as a user wrote it (1e+300, 0.02), for messages.
+std::string format(double value) {
+  std::ostringstream text;
+  text << value;
+  return text.str();
+}
+
 double calcRms(const Eigen::VectorXd& values) {
   return values.size() ? std::sqrt(values.squaredNorm() / static_cast<double>(values.size())) : 0.0;
 }
@@ -36,13 +44,24 @@ class GreedyFitter {
       : samples_(samples), settings_(settings), design_(samples.getNumSamples()),
         check_design_(samples.getNumCheckPoints()) {
     if (settings.max_centres < 1) throw std::invalid_argument("fit: max_centres must be ≥ 1");
+    // Beyond these the targets' squares overflow (a clamp of 1e300 mm made every residual NaN).
+    if (!(settings.clamp_mm > 0 && settings.clamp_mm <= FitSettings::kMaxClamp_mm))
+      throw std::invalid_argument("fit: clamp " + format(settings.clamp_mm) + " mm, expected > 0 and ≤ " +
+                                  format(FitSettings::kMaxClamp_mm) + " mm");
+    if (!(settings.normal_offset_mm > 0 && settings.normal_offset_mm <= settings.clamp_mm))
+      throw std::invalid_argument("fit: normal offset " + format(settings.normal_offset_mm) +
+                                  " mm, expected > 0 and at most the clamp (" + format(settings.clamp_mm) +
+                                  " mm): samples beyond the clamp carry no distance");
+    if (!(settings.tolerance_mm >= 0 && std::isfinite(settings.tolerance_mm)))
+      throw std::invalid_argument("fit: tolerance " + format(settings.tolerance_mm) +
+                                  " mm, expected ≥ 0 (0: the centre budget alone)");
     shapes_ = settings.global_shape_per_mm2 > 0
                   ? std::vector<double>{settings.global_shape_per_mm2}
                   : settings.shapes_per_mm2;
     if (shapes_.empty()) throw std::invalid_argument("fit: the shape set is empty");
     for (double a : shapes_)
       if (!(a > 0) || !std::isfinite(a))
-        throw std::invalid_argument("fit: shape " + std::to_string(a) + " mm^-2 is not > 0");
+        throw std::invalid_argument("fit: shape " + format(a) + " mm^-2 is not > 0");
     alpha_max_ = *std::max_element(shapes_.begin(), shapes_.end());
     alpha_min_ = *std::min_element(shapes_.begin(), shapes_.end());
     offset_ = -settings.clamp_mm;
@@ -84,6 +103,9 @@ class GreedyFitter {
       }
     }
     if (result.stop_reason.empty()) result.stop_reason = "centre budget";
+    if (getNumCentres() == 0)  // nothing to refit, and no surface
+      throw std::invalid_argument("fit: no centre reduces the error of the samples; the fit options (clamp, shapes) "
+                                  "do not suit this mesh");
     result.final_refit = refit(settings_.final_refit_iterations);
     for (int pass = 0; pass < kMaxFinalCheckPasses; ++pass) {
       const int added = addViolatedCheckPoints();

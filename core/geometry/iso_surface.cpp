@@ -26,7 +26,7 @@ class Extractor {
       : field_(field), origin_(box.min()), cell_(cell), n_(countIsoSurfaceNodes(box, cell)) {}
 
   void checkSize() const {
-    if (double(n_[0]) * double(n_[1]) * double(n_[2]) > 1e9) {
+    if (double(n_[0]) * double(n_[1]) * double(n_[2]) > kMaxIsoSurfaceNodes) {
       std::ostringstream s;
       s << "extractIsoSurface: grid of " << n_[0] << "×" << n_[1] << "×" << n_[2]
         << " nodes exceeds 1e9; use a larger cell than " << cell_ << " mm";

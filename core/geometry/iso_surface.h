@@ -16,9 +16,11 @@ using ScalarFieldFn = std::function<void(const Eigen::Matrix3Xd& points_mm, Eige
 
 /// Nodes per axis of the grid extractIsoSurface samples over `box_mm` with spacing
 /// `cell_mm`: max(2, ⌈size/cell⌉ + 1) (the last layer may pass box.max() by less than a
-/// cell). Anything that must see the same nodes as the extraction (the topology guard)
-/// uses this.
+/// cell). Anything that must see the same nodes as the extraction uses this.
 std::array<std::int64_t, 3> countIsoSurfaceNodes(const Eigen::AlignedBox3d& box_mm, double cell_mm);
+
+/// The most grid nodes extractIsoSurface samples; a finer grid is refused.
+constexpr double kMaxIsoSurfaceNodes = 1e9;
 
 /// Extracts the surface {f = 0} of `field`, with inside = {f > 0}, as a mesh wound outward
 /// (normals point towards decreasing f).

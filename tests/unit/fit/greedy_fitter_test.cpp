@@ -5,6 +5,8 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 #include "geometry/mesh_error.h"
 
@@ -102,6 +104,45 @@ TEST(GreedyFitter, BadMeshIsRefusedWithItsName) {
     FAIL() << "no error";
   } catch (const MeshError& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_shape.ply"), std::string::npos) << e.what();
+  }
+}
+
+/// The message of the std::invalid_argument a fit of the block with `settings` throws.
+std::string fitError(const FitSettings& settings) {
+  try {
+    fitMeshFile(shapePath("block"), settings, false);
+  } catch (const std::invalid_argument& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(GreedyFitter, SettingsThatOverflowOrLeaveNothingToFitAreRefused) {
+  FitSettings s = smallSettings(5);
+  s.clamp_mm = 1e300;  // the targets' squares overflowed: NaN residuals, then a crash sorting them
+  EXPECT_NE(fitError(s).find("clamp 1e+300 mm, expected > 0 and ≤ 10000 mm"), std::string::npos) << fitError(s);
+  s = smallSettings(5);
+  s.normal_offset_mm = 20.0;
+  EXPECT_NE(fitError(s).find("normal offset 20 mm, expected > 0 and at most the clamp (10 mm)"), std::string::npos);
+  s = smallSettings(5);
+  s.tolerance_mm = -1.0;
+  EXPECT_NE(fitError(s).find("tolerance -1 mm, expected ≥ 0"), std::string::npos);
+  // Targets of 1e-300 mm: no candidate reduces the error, and the refit of no centre crashed.
+  s = smallSettings(5);
+  s.clamp_mm = s.normal_offset_mm = 1e-300;
+  EXPECT_NE(fitError(s).find("no centre reduces the error"), std::string::npos) << fitError(s);
+}
+
+TEST(GreedyFitter, CellTooFineForTheMeasureIsRefusedBeforeTheFit) {
+  FitSettings s = smallSettings(5);
+  s.surface_cell_mm = 0.05;
+  try {
+    fitMeshFile(shapePath("block"), s, false);
+    FAIL() << "no error";
+  } catch (const MeshError& e) {
+    EXPECT_NE(std::string(e.what()).find("block.ply: a surface cell of 0.05 mm takes a grid of 741×1441×1441 nodes"),
+              std::string::npos)
+        << e.what();
   }
 }
 
