@@ -30,8 +30,8 @@ const char* const kFitUsage =
     "  -o, --output FILE       fitted surface (.rbf, text, versioned) — required\n"
     "  --surface FILE          also write the extracted f = 0 surface as PLY (source frame, mm)\n"
     "  --tolerance-mm T        stop early when the RMS error on surface samples ≤ T [0: off]\n"
-    "  --clamp-mm TAU          clamp of the signed-distance target [10]\n"
-    "  --normal-offset-mm D    samples ±D along vertex normals [1]\n"
+    "  --clamp-mm TAU          clamp of the signed-distance target, at most 10000 [10]\n"
+    "  --normal-offset-mm D    samples ±D along vertex normals, D ≤ TAU [1]\n"
     "  --halton N              Halton samples in the padded box [30000]\n"
     "  --check-band N          check points within the clamp of the surface [30000]\n"
     "  --no-check-layers       no check points 2D, 4D, 8D … (< TAU) off the vertices along their normals\n"
@@ -42,7 +42,8 @@ const char* const kFitUsage =
     "  --cell-mm H             grid cell of the extracted surface [1]\n"
     "  --metric-points N       points for the Jaccard index (≥ 100000) [200000]\n"
     "  --global-shape ALPHA    one shape α for every centre\n"
-    "  --global-search LO,HI,K search the best global α in [LO, HI] with K fits (golden section)\n"
+    "  --global-search LO,HI,K search the best global α in [LO, HI] with K fits (golden section,\n"
+    "                          K from 2 to 100)\n"
     "  --fix-winding           rewind inconsistently wound triangles instead of failing\n"
     "  --quiet                 no progress on stderr\n";
 
@@ -138,6 +139,10 @@ FitJob parseFitArguments(const std::vector<std::string>& args, bool require_outp
     throw UsageError("fit: --check-start must be in [0, 1]");
   if (!job.global_search.empty() && job.global_search.size() != 3)
     throw UsageError("fit: --global-search expects LO,HI,K");
+  // K full fits; beyond 100 the golden-section bracket has long stopped shrinking in double precision.
+  if (!job.global_search.empty() &&
+      !(job.global_search[2] >= 2 && job.global_search[2] <= 100 && job.global_search[2] == std::floor(job.global_search[2])))
+    throw UsageError("fit: --global-search LO,HI,K: K is the number of fits, a whole number from 2 to 100");
   return job;
 }
 

@@ -100,7 +100,9 @@ TEST(FitCommand, BadCommandLinesExitWithUsage) {
                                   kShapes + "box.ply --bogus" + out, kShapes + "box.ply --centres 5",
                                   std::string("--centres 5") + out, kShapes + "box.ply --gamma 2" + out,
                                   kShapes + "box.ply --centres 5 --centres 6" + out,
-                                  kShapes + "box.ply --centres 5 --output y.rbf" + out}) {
+                                  kShapes + "box.ply --centres 5 --output y.rbf" + out,
+                                  kShapes + "box.ply --global-search 0.01,0.1,1e300" + out,
+                                  kShapes + "box.ply --global-search 0.01,0.1,2.5" + out}) {
     const HostResult r = runFit(args, "usage");
     EXPECT_EQ(r.exit_code, 2) << args << "\n" << r.err;
     EXPECT_NE(r.err.find("rbfmuscle: error: fit:"), std::string::npos) << r.err;
