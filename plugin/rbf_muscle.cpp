@@ -104,7 +104,8 @@ void RBFMuscle::initialize(const InitContext& context) {
   for (int bone = 0; bone < 2; ++bone)
     if (muscle.attachments.countAttachedTo(bone) == 0)
       throw FrameworkError(std::string(bone ? "insertion_area" : "origin_area") + ": no kernel centre lies within " +
-                           "attachment_radius_mm of it; is the area on this muscle, in the mesh's frame?");
+                           "attachment_radius_mm of it nearer to it than to the " + (bone ? "origin" : "insertion") +
+                           " area; is the area on this muscle, in the mesh's frame?");
   attached_kernels_ = muscle.attachments.countAttached();
 
   contact_bodies_.clear();
