@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Reproduces the static-fit table (issue 2): fits every mesh with `rbfmuscle fit`
+# Reproduces the static-fit table of docs/design.md ("Fits"): fits every mesh with `rbfmuscle fit`
 # and prints one Markdown row per fit from the JSON line each fit prints last.
 # Usage: scripts/fit_table.sh [OUTDIR] [--long]   (--long adds 10000 centres and the global-shape search)
 # Timing: run on an otherwise idle machine; `seconds` is sampling + fit, wall_s the whole command.
