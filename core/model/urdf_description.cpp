@@ -1,6 +1,7 @@
 #include "model/urdf_description.h"
 
 #include <console_bridge/console.h>
+#include <tinyxml2.h>
 #include <urdf_parser/urdf_parser.h>
 
 #include <algorithm>
@@ -324,6 +325,13 @@ UrdfDescription parseUrdf(const std::string& text, const std::string& path) {
   if (bad != std::string::npos)
     throw ModelError(where(path, "line " + std::to_string(1 + std::count(text.begin(), text.begin() + bad, '\n')) +
                                      ": byte " + std::to_string(bad) + " is not valid UTF-8 (expected a UTF-8 text)"));
+  // urdfdom's TinyXML parses recursively and overflows the stack on deep nesting (200 000 nested
+  // elements crashed, signal 11); tinyxml2 bounds the depth, so it reads the text first and
+  // names the line of what is wrong.
+  tinyxml2::XMLDocument xml;
+  if (xml.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS)
+    throw ModelError(where(path, "line " + std::to_string(xml.ErrorLineNum()) + ": not well-formed XML: " +
+                                     xml.ErrorStr()));
   urdf::ModelInterfaceSharedPtr model;
   std::string log;
   bool dropped = false;

@@ -251,7 +251,18 @@ TEST(SkeletonErrors, MissingUrdfNamesFile) {
 TEST(SkeletonErrors, MalformedUrdfNamesFile) {
   TempFile f("malformed.urdf");
   f.write("<robot name=\"broken\"><link name=\"a\"></robot>");
-  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "could not parse"});
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "line 1: not well-formed XML"});
+}
+
+TEST(SkeletonErrors, DeeplyNestedUrdfIsRefusedBeforeUrdfdomRecursesThroughIt) {
+  // urdfdom's TinyXML parses recursively: 200 000 nested elements overflowed the stack (signal 11).
+  const int depth = 200000;
+  std::string text = "<robot name=\"r\"><link name=\"a\"/>";
+  for (int i = 0; i < depth; ++i) text += "<x>";
+  for (int i = 0; i < depth; ++i) text += "</x>";
+  text += "</robot>";
+  expectModelError([&] { Skeleton::fromUrdfText(text, "deep.urdf"); },
+                   {"URDF deep.urdf: line 1: not well-formed XML", "Element nesting is too deep"});
 }
 
 TEST(SkeletonErrors, PrismaticJointNamesJoint) {
