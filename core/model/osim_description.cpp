@@ -102,6 +102,8 @@ void OsimReader::collectBodies(const XMLElement& model) {
     b.name = name;
     b.ground = ground || b.name == "ground";
     if (!names.insert(b.name).second) fail(&e, "a second body named '" + b.name + "'");
+    if (bodies_.size() == kMaxSkeletonBodies)
+      fail(&e, "more than the " + std::to_string(kMaxSkeletonBodies) + " bodies a skeleton may have");
     bodies_.push_back(b);
     if (const XMLElement* components = child(e, "components"))
       for (const XMLElement* f = components->FirstChildElement("PhysicalOffsetFrame"); f;

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -65,6 +66,10 @@ struct SkeletonDescription {
   std::vector<SkeletonBody> bodies;
   std::vector<CoordinateInfo> coordinates;
 };
+
+/// Most bodies (links) a skeleton file may give: a human skeleton has tens; far more is not a
+/// skeleton, and the build grows faster than the count (50 000 bodies ran for minutes).
+inline constexpr std::size_t kMaxSkeletonBodies = 1000;
 
 /// Largest body mass a skeleton file may give (kg), and largest principal moment of inertia
 /// about the mass centre (kg·m²): far beyond any body part, close enough that the parallel-axis

@@ -219,9 +219,9 @@ void checkTree(const std::string& urdf_path, const urdf::ModelInterface& model) 
                                           "); the links must form a tree, each link the child of at most one joint "
                                           "(a closed kinematic loop is not supported)"));
   }
-  if (model.links_.size() > kMaxUrdfLinks)
+  if (model.links_.size() > kMaxSkeletonBodies)
     throw ModelError(where(urdf_path, std::to_string(model.links_.size()) + " links, more than the " +
-                                          std::to_string(kMaxUrdfLinks) + " a skeleton may have"));
+                                          std::to_string(kMaxSkeletonBodies) + " a skeleton may have"));
   std::set<std::string> reached;
   std::vector<const urdf::Link*> stack = {model.getRoot().get()};
   while (!stack.empty() && reached.size() <= model.links_.size()) {  // each link is pushed at most once

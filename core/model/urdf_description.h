@@ -48,8 +48,7 @@ inline constexpr double kDefaultLinkMass_kg = 1e-6;
 
 /// Bounds readUrdf puts on a URDF. A human skeleton has tens of links, spans about 2 m and
 /// its meshes are in metres (scale 1) or mm (scale 0.001):
-/// - at most 1000 links;
-inline constexpr std::size_t kMaxUrdfLinks = 1000;
+/// - at most kMaxSkeletonBodies links;
 /// - origins (joints, meshes) within 1000 m of their parent frame;
 inline constexpr double kMaxUrdfTranslation_m = 1000.0;
 /// - mesh scale factors from 1e-6 to 1e6 (0 collapses a bone, a negative factor mirrors it

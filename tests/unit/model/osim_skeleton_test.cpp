@@ -321,6 +321,22 @@ TEST(OsimErrors, NegativeMassIsRefusedNamingTheBodyAndLineAndZeroIsMassless) {
   EXPECT_NO_THROW(Skeleton::fromOsimText(zero, kData + "zero_mass.osim"));
 }
 
+TEST(OsimErrors, MoreBodiesThanASkeletonMayHaveAreRefused) {
+  // A chain of 50 000 welded bodies ran for minutes; a skeleton has tens.
+  std::string bodies, joints;
+  for (int i = 0; i < 1001; ++i) {
+    const std::string n = std::to_string(i);
+    bodies += "<Body name=\"b" + n + "\"><mass>1</mass></Body>\n";
+    joints += "<WeldJoint name=\"j" + n + "\"><socket_parent_frame>" + (i ? "/bodyset/b" + std::to_string(i - 1) : "/ground") +
+              "</socket_parent_frame><socket_child_frame>/bodyset/b" + n + "</socket_child_frame></WeldJoint>\n";
+  }
+  const std::string text = "<OpenSimDocument Version=\"40000\"><Model name=\"m\"><Ground name=\"ground\"/>\n"
+                           "<BodySet name=\"bodyset\"><objects>\n" + bodies + "</objects></BodySet>\n"
+                           "<JointSet name=\"jointset\"><objects>\n" + joints + "</objects></JointSet></Model></OpenSimDocument>";
+  expectModelError([&] { Skeleton::fromOsimText(text, "chain.osim"); },
+                   {"chain.osim, line 1002: <Body name=\"b999\">: more than the 1000 bodies a skeleton may have"});
+}
+
 TEST(OsimErrors, RefusedConstructsNameTheElementAndLine) {
   const auto path = [](const char* file) { return kData + file; };
   expectModelError([&] { Skeleton::fromOsim(path("simm_spline.osim")); },
