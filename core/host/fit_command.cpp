@@ -140,8 +140,8 @@ FitJob parseFitArguments(const std::vector<std::string>& args, bool require_outp
   if (!job.global_search.empty() && job.global_search.size() != 3)
     throw UsageError("fit: --global-search expects LO,HI,K");
   // K full fits; beyond 100 the golden-section bracket has long stopped shrinking in double precision.
-  if (!job.global_search.empty() &&
-      !(job.global_search[2] >= 2 && job.global_search[2] <= 100 && job.global_search[2] == std::floor(job.global_search[2])))
+  const double fits = job.global_search.empty() ? 2.0 : job.global_search[2];
+  if (!(fits >= 2 && fits <= 100 && fits == std::floor(fits)))
     throw UsageError("fit: --global-search LO,HI,K: K is the number of fits, a whole number from 2 to 100");
   return job;
 }

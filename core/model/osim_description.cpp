@@ -214,7 +214,8 @@ void OsimReader::collectJoints(const XMLElement& model) {
 void OsimReader::readMassProperties(const OsimBody& b, SkeletonBody& out) const {
   const XMLElement& e = *b.element;
   const double mass = number(e, "mass", 0.0);
-  if (mass < 0.0) fail(child(e, "mass"), "body '" + b.name + "': " + findMassPropertiesProblem(mass, Eigen::Matrix3d::Zero()));
+  if (mass < 0.0)
+    fail(child(e, "mass"), "body '" + b.name + "': " + findMassPropertiesProblem(mass, Eigen::Matrix3d::Zero()));
   if (mass == 0.0) {  // massless (ground, frames): kinematics alone
     out.mass_kg = kDefaultLinkMass_kg;
     out.inertia_B_kgmm2 = kDefaultLinkMass_kg * Eigen::Matrix3d::Identity();
