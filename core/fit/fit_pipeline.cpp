@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 #include "fit/sample_set.h"
 #include "geometry/iso_surface.h"
@@ -13,8 +14,6 @@
 #include "geometry/self_intersection.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/solid_mesh.h"
-
-#include <sstream>
 
 namespace rbfmuscle {
 namespace {
@@ -72,14 +71,10 @@ PreparedMesh prepareMesh(const std::string& mesh_path, bool fix_winding, const F
   }
   // The fit is measured on a surface extracted over the padded box: refuse a cell too fine for
   // that before the fit rather than after it.
-  const std::array<std::int64_t, 3> nodes =
-      countIsoSurfaceNodes(calcPaddedBox(prepared.mesh_M, settings.padding_fraction), settings.surface_cell_mm);
-  if (double(nodes[0]) * double(nodes[1]) * double(nodes[2]) > kMaxIsoSurfaceNodes) {
-    std::ostringstream text;
-    text << mesh_path << ": a surface cell of " << settings.surface_cell_mm << " mm takes a grid of " << nodes[0] << "×"
-         << nodes[1] << "×" << nodes[2] << " nodes over this mesh, more than " << kMaxIsoSurfaceNodes
-         << "; use a larger cell";
-    throw MeshError(text.str());
+  try {
+    checkIsoSurfaceGrid(calcPaddedBox(prepared.mesh_M, settings.padding_fraction), settings.surface_cell_mm);
+  } catch (const std::invalid_argument& e) {
+    throw MeshError(mesh_path + ": " + e.what());
   }
   prepared.hash = hashFile(mesh_path);
   prepared.components = countComponents(prepared.mesh_M);

@@ -3,9 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numeric>
-#include <sstream>
 #include <stdexcept>
 
+#include "io/format_number.h"
 #include "rbf/spatial_grid.h"
 
 namespace rbfmuscle {
@@ -27,13 +27,6 @@ struct CandidateChoice {
   double regularised = 1e300; ///< C_r of eq. 7.12 (lower is better)
 };
 
-/// A number as a user wrote it (1e+300, 0.02), for messages.
-std::string format(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
-
 double calcRms(const Eigen::VectorXd& values) {
   return values.size() ? std::sqrt(values.squaredNorm() / static_cast<double>(values.size())) : 0.0;
 }
@@ -46,14 +39,14 @@ class GreedyFitter {
     if (settings.max_centres < 1) throw std::invalid_argument("fit: max_centres must be ≥ 1");
     // Beyond these the targets' squares overflow (a clamp of 1e300 mm made every residual NaN).
     if (!(settings.clamp_mm > 0 && settings.clamp_mm <= FitSettings::kMaxClamp_mm))
-      throw std::invalid_argument("fit: clamp " + format(settings.clamp_mm) + " mm, expected > 0 and ≤ " +
-                                  format(FitSettings::kMaxClamp_mm) + " mm");
+      throw std::invalid_argument("fit: clamp " + io::formatNumber(settings.clamp_mm) + " mm, expected > 0 and ≤ " +
+                                  io::formatNumber(FitSettings::kMaxClamp_mm) + " mm");
     if (!(settings.normal_offset_mm > 0 && settings.normal_offset_mm <= settings.clamp_mm))
-      throw std::invalid_argument("fit: normal offset " + format(settings.normal_offset_mm) +
-                                  " mm, expected > 0 and at most the clamp (" + format(settings.clamp_mm) +
+      throw std::invalid_argument("fit: normal offset " + io::formatNumber(settings.normal_offset_mm) +
+                                  " mm, expected > 0 and at most the clamp (" + io::formatNumber(settings.clamp_mm) +
                                   " mm): samples beyond the clamp carry no distance");
     if (!(settings.tolerance_mm >= 0 && std::isfinite(settings.tolerance_mm)))
-      throw std::invalid_argument("fit: tolerance " + format(settings.tolerance_mm) +
+      throw std::invalid_argument("fit: tolerance " + io::formatNumber(settings.tolerance_mm) +
                                   " mm, expected ≥ 0 (0: the centre budget alone)");
     shapes_ = settings.global_shape_per_mm2 > 0
                   ? std::vector<double>{settings.global_shape_per_mm2}
@@ -61,7 +54,7 @@ class GreedyFitter {
     if (shapes_.empty()) throw std::invalid_argument("fit: the shape set is empty");
     for (double a : shapes_)
       if (!(a > 0) || !std::isfinite(a))
-        throw std::invalid_argument("fit: shape " + format(a) + " mm^-2 is not > 0");
+        throw std::invalid_argument("fit: shape " + io::formatNumber(a) + " mm^-2 is not > 0");
     alpha_max_ = *std::max_element(shapes_.begin(), shapes_.end());
     alpha_min_ = *std::min_element(shapes_.begin(), shapes_.end());
     offset_ = -settings.clamp_mm;

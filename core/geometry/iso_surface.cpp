@@ -25,15 +25,6 @@ class Extractor {
   Extractor(const ScalarFieldFn& field, const Eigen::AlignedBox3d& box, double cell)
       : field_(field), origin_(box.min()), cell_(cell), n_(countIsoSurfaceNodes(box, cell)) {}
 
-  void checkSize() const {
-    if (double(n_[0]) * double(n_[1]) * double(n_[2]) > kMaxIsoSurfaceNodes) {
-      std::ostringstream s;
-      s << "extractIsoSurface: grid of " << n_[0] << "×" << n_[1] << "×" << n_[2]
-        << " nodes exceeds 1e9; use a larger cell than " << cell_ << " mm";
-      throw std::invalid_argument(s.str());
-    }
-  }
-
   TriangleMesh run() {
     std::vector<double> below = evaluateLayer(0), above;
     for (std::int64_t k = 0; k + 1 < n_[2]; ++k) {
@@ -182,6 +173,17 @@ std::array<std::int64_t, 3> countIsoSurfaceNodes(const Eigen::AlignedBox3d& box_
   return n;
 }
 
+void checkIsoSurfaceGrid(const Eigen::AlignedBox3d& box_mm, double cell_mm) {
+  constexpr double kMaxNodes = 1e9;
+  const std::array<std::int64_t, 3> n = countIsoSurfaceNodes(box_mm, cell_mm);
+  if (double(n[0]) * double(n[1]) * double(n[2]) > kMaxNodes) {
+    std::ostringstream s;
+    s << "a surface cell of " << cell_mm << " mm takes a grid of " << n[0] << "×" << n[1] << "×" << n[2]
+      << " nodes, more than " << kMaxNodes << "; use a larger cell";
+    throw std::invalid_argument(s.str());
+  }
+}
+
 TriangleMesh extractIsoSurface(const ScalarFieldFn& field, const Eigen::AlignedBox3d& box_mm,
                                double cell_mm, std::int64_t* clipped_nodes, std::vector<std::uint64_t>* vertex_edges) {
   if (box_mm.isEmpty() || !box_mm.min().allFinite() || !box_mm.max().allFinite()) {
@@ -193,8 +195,8 @@ TriangleMesh extractIsoSurface(const ScalarFieldFn& field, const Eigen::AlignedB
   if (!(cell_mm > 0.0) || !std::isfinite(cell_mm))
     throw std::invalid_argument("extractIsoSurface: cell size " + std::to_string(cell_mm) +
                                 " mm must be positive and finite");
+  checkIsoSurfaceGrid(box_mm, cell_mm);
   Extractor extractor(field, box_mm, cell_mm);
-  extractor.checkSize();
   TriangleMesh mesh = extractor.run();
   if (clipped_nodes) *clipped_nodes = extractor.getClippedNodes();
   if (vertex_edges) vertex_edges->swap(extractor.updVertexEdges());

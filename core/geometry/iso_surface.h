@@ -19,8 +19,10 @@ using ScalarFieldFn = std::function<void(const Eigen::Matrix3Xd& points_mm, Eige
 /// cell). Anything that must see the same nodes as the extraction uses this.
 std::array<std::int64_t, 3> countIsoSurfaceNodes(const Eigen::AlignedBox3d& box_mm, double cell_mm);
 
-/// The most grid nodes extractIsoSurface samples; a finer grid is refused.
-constexpr double kMaxIsoSurfaceNodes = 1e9;
+/// Refuses a grid of more than 10⁹ nodes over `box_mm` with spacing `cell_mm`, the most
+/// extractIsoSurface samples: callers that extract later check it before their long work.
+/// @throws std::invalid_argument "a surface cell of C mm takes a grid of I×J×K nodes, …".
+void checkIsoSurfaceGrid(const Eigen::AlignedBox3d& box_mm, double cell_mm);
 
 /// Extracts the surface {f = 0} of `field`, with inside = {f > 0}, as a mesh wound outward
 /// (normals point towards decreasing f).

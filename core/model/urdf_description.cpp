@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "io/file_checks.h"
+#include "io/format_number.h"
 
 namespace rbfmuscle::detail {
 namespace {
@@ -43,12 +44,6 @@ class CaptureLog : public console_bridge::OutputHandler {
 
 std::string where(const std::string& urdf_path, const std::string& what);
 
-std::string formatNumber(double value) {
-  std::ostringstream text;
-  text << value;
-  return text.str();
-}
-
 /// Refuses a pose whose numbers are not finite or whose translation is implausible.
 void checkPose(const std::string& urdf_path, const urdf::Pose& pose, const std::string& owner) {
   double x, y, z, w;
@@ -56,9 +51,9 @@ void checkPose(const std::string& urdf_path, const urdf::Pose& pose, const std::
   const double p[3] = {pose.position.x, pose.position.y, pose.position.z};
   for (double v : p)
     if (!std::isfinite(v) || std::abs(v) > kMaxUrdfTranslation_m)
-      throw ModelError(where(urdf_path, owner + ": origin xyz " + formatNumber(p[0]) + " " + formatNumber(p[1]) +
-                                            " " + formatNumber(p[2]) + " m: expected finite values of magnitude at most " +
-                                            formatNumber(kMaxUrdfTranslation_m) + " m"));
+      throw ModelError(where(urdf_path, owner + ": origin xyz " + io::formatNumber(p[0]) + " " + io::formatNumber(p[1]) +
+                                            " " + io::formatNumber(p[2]) + " m: expected finite values of magnitude at most " +
+                                            io::formatNumber(kMaxUrdfTranslation_m) + " m"));
   if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(z) || !std::isfinite(w) ||
       !(x * x + y * y + z * z + w * w > 0))
     throw ModelError(where(urdf_path, owner + ": origin rpy is not a finite rotation"));
@@ -104,9 +99,9 @@ void addMesh(const std::string& urdf_path, const std::string& link, const urdf::
   for (double v : scale)
     if (!std::isfinite(v) || !(v >= kMinUrdfMeshScale && v <= kMaxUrdfMeshScale))
       throw ModelError(where(urdf_path, "link '" + link + "': mesh '" + mesh.filename + "' has scale " +
-                                            formatNumber(scale[0]) + " " + formatNumber(scale[1]) + " " +
-                                            formatNumber(scale[2]) + ": expected each factor from " +
-                                            formatNumber(kMinUrdfMeshScale) + " to " + formatNumber(kMaxUrdfMeshScale) +
+                                            io::formatNumber(scale[0]) + " " + io::formatNumber(scale[1]) + " " +
+                                            io::formatNumber(scale[2]) + ": expected each factor from " +
+                                            io::formatNumber(kMinUrdfMeshScale) + " to " + io::formatNumber(kMaxUrdfMeshScale) +
                                             " (metres per mesh unit; 0.001 for a mesh in mm; a negative factor "
                                             "would mirror the bone and turn it inside out)"));
   checkPose(urdf_path, origin, "link '" + link + "': mesh '" + mesh.filename + "'");

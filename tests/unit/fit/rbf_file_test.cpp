@@ -51,21 +51,25 @@ std::string validHeader(int centres) {
          "offset -5\ncutoff 1e-8\nsettings x=1\nmetrics {}\ncentres " + std::to_string(centres) + "\n";
 }
 
+/// Every part of two surfaces equal, bit for bit.
+void expectSameSurface(const RbfSurface& read, const RbfSurface& expected) {
+  EXPECT_EQ(read.field.getCentres(), expected.field.getCentres());
+  EXPECT_EQ(read.field.getWeights(), expected.field.getWeights());
+  EXPECT_EQ(read.field.getShapes(), expected.field.getShapes());
+  EXPECT_EQ(read.field.getOffset(), expected.field.getOffset());
+  EXPECT_EQ(read.field.getCutoff(), expected.field.getCutoff());
+  EXPECT_EQ(read.frame_offset_mm, expected.frame_offset_mm);
+  EXPECT_EQ(read.source_mesh, expected.source_mesh);
+  EXPECT_EQ(read.source_hash, expected.source_hash);
+  EXPECT_EQ(read.settings, expected.settings);
+  EXPECT_EQ(read.metrics_json, expected.metrics_json);
+}
+
 TEST(RbfFile, RoundTripIsExact) {
   const RbfSurface written = makeSurface();
   const std::string path = (testDir() / "round_trip.rbf").string();
   writeRbfFile(path, written);
-  const RbfSurface read = readRbfFile(path);
-  EXPECT_EQ(read.field.getCentres(), written.field.getCentres());
-  EXPECT_EQ(read.field.getWeights(), written.field.getWeights());
-  EXPECT_EQ(read.field.getShapes(), written.field.getShapes());
-  EXPECT_EQ(read.field.getOffset(), written.field.getOffset());
-  EXPECT_EQ(read.field.getCutoff(), written.field.getCutoff());
-  EXPECT_EQ(read.frame_offset_mm, written.frame_offset_mm);
-  EXPECT_EQ(read.source_mesh, written.source_mesh);
-  EXPECT_EQ(read.source_hash, written.source_hash);
-  EXPECT_EQ(read.settings, written.settings);
-  EXPECT_EQ(read.metrics_json, written.metrics_json);
+  expectSameSurface(readRbfFile(path), written);
   EXPECT_FALSE(fs::exists(path + ".partial"));
 }
 
@@ -74,12 +78,7 @@ TEST(RbfFile, ParseFromMemoryEqualsReadingTheFile) {
   writeRbfFile(path, makeSurface());
   std::ifstream in(path);
   const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const RbfSurface parsed = parseRbfText(text, "memory.rbf");
-  const RbfSurface read = readRbfFile(path);
-  EXPECT_EQ(parsed.field.getCentres(), read.field.getCentres());
-  EXPECT_EQ(parsed.field.getWeights(), read.field.getWeights());
-  EXPECT_EQ(parsed.field.getShapes(), read.field.getShapes());
-  EXPECT_EQ(parsed.frame_offset_mm, read.frame_offset_mm);
+  expectSameSurface(parseRbfText(text, "memory.rbf"), readRbfFile(path));
   try {
     parseRbfText(validHeader(3), "memory.rbf");
     ADD_FAILURE() << "a file without its centre lines was accepted";
@@ -94,13 +93,7 @@ TEST(RbfFile, WindowsLineEndsReadAsTheSameSurface) {
   std::ifstream in(path);
   std::string crlf;
   for (std::string line; std::getline(in, line);) crlf += line + "\r\n";
-  const RbfSurface lf = readRbfFile(path), windows = parseRbfText(crlf, "crlf.rbf");
-  EXPECT_EQ(windows.field.getCentres(), lf.field.getCentres());
-  EXPECT_EQ(windows.field.getWeights(), lf.field.getWeights());
-  EXPECT_EQ(windows.field.getShapes(), lf.field.getShapes());
-  EXPECT_EQ(windows.source_hash, lf.source_hash);
-  EXPECT_EQ(windows.settings, lf.settings);
-  EXPECT_EQ(windows.metrics_json, lf.metrics_json);
+  expectSameSurface(parseRbfText(crlf, "crlf.rbf"), readRbfFile(path));
 }
 
 TEST(RbfFile, ErrorsNameFileAndLine) {
