@@ -176,6 +176,12 @@ void RBFMuscle::makeLineOfAction(const InitContext& context, const Eigen::Matrix
   const Skeleton& skeleton = context.getSkeleton();
   ViaPointPath path;
   path_bodies_ = bone_bodies_;
+  const auto addPathBody = [this](int body) {  // the path's bone index of a skeleton body
+    const auto known = std::find(path_bodies_.begin(), path_bodies_.end(), body);
+    if (known != path_bodies_.end()) return static_cast<int>(known - path_bodies_.begin());
+    path_bodies_.push_back(body);
+    return static_cast<int>(path_bodies_.size()) - 1;
+  };
   try {
     if (line_of_action.get().find_first_not_of(" \t\r\n") == std::string::npos) {  // the areas' means
       Eigen::Matrix3Xd ends(3, 2);
@@ -189,15 +195,23 @@ void RBFMuscle::makeLineOfAction(const InitContext& context, const Eigen::Matrix
       path.points_mm = placeAtRest_M(muscle, skeleton, frame_offset_mm_);
       path_bodies_.clear();
       for (const MusclePathPoint& point : muscle.points) {
-        const auto known = std::find(path_bodies_.begin(), path_bodies_.end(), point.body);
-        path.bones.push_back(static_cast<int>(known - path_bodies_.begin()));
-        if (known == path_bodies_.end()) path_bodies_.push_back(point.body);
+        path.bones.push_back(addPathBody(point.body));
         path.conditions.push_back(PathPointCondition{point.coordinate, point.active_min, point.active_max});
       }
     } else {
-      const Eigen::Matrix3Xd points = joinAreas(parseAttachmentAreaSpec(line_of_action.get(), context.getModelDirectory()));
+      const ViaPointText text = splitViaPointBodies(line_of_action.get());
+      const Eigen::Matrix3Xd points = joinAreas(parseAttachmentAreaSpec(text.points, context.getModelDirectory()));
       if (points.cols() < 2) throw FrameworkError("expected ≥ 2 points, got " + std::to_string(points.cols()));
       path = makeViaPointPath(points.colwise() - frame_offset_mm_, 0, 1, {});
+      if (!text.bodies.empty()) {
+        path_bodies_.clear();
+        for (size_t i = 0; i < text.bodies.size(); ++i) {
+          const int body = skeleton.findBodyIndex(text.bodies[i]);
+          if (body < 0)
+            throw FrameworkError("via point " + std::to_string(i + 1) + ": no body '" + text.bodies[i] + "' in the skeleton");
+          path.bones[i] = addPathBody(body);
+        }
+      }
     }
   } catch (const std::exception& e) {
     throw FrameworkError("line_of_action: " + std::string(e.what()));

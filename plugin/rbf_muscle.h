@@ -50,10 +50,12 @@ class RBFMuscle final : public Component {
                                         "bone (mm)",
                                         PropertyRange{0.1, 1000.0}};
   Property<std::string> line_of_action{this, "line_of_action", std::string(),
-                                       "path to compare with: 'x y z; …' via points, origin body first, insertion "
-                                       "body last (mm, ground at rest), or 'FILE.osim: MUSCLE' (a muscle of the "
-                                       "OpenSim model the skeleton is read from); '' = the straight line between "
-                                       "the areas' means"};
+                                       "path to compare with: 'x y z @ BODY; …' via points, each fixed to the body "
+                                       "named (mm, ground at rest); 'x y z; …' puts the first point on the origin "
+                                       "body, the last on the insertion body, and the others on the origin body up to "
+                                       "half the path's length, else on the insertion body; 'FILE.osim: MUSCLE' (a "
+                                       "muscle of the OpenSim model the skeleton is read from); '' = the straight "
+                                       "line between the areas' means"};
   Property<bool> contacts{this, "contacts", true,
                           "keep the muscle out of every body with a mesh (its collision meshes, else its visual ones; "
                           "false: bones are ignored)"};

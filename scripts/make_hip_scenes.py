@@ -27,6 +27,14 @@ MUSCLES = [
      ["LC_SET_Ins_1_R_M090_Psoas_maj"], "psoas_r"),
 ]
 
+# The body each MyoLeg path point is fixed to, as in MyoLeg and in the subject's OpenSim model
+# (osim/LHDL_hip_r.osim): the points where a path wraps over the pelvic brim are on the pelvis.
+PATH_BODIES = {
+    "glmax2_r": ["pelvis", "pelvis", "femur_r", "femur_r"],
+    "iliacus_r": ["pelvis", "pelvis", "femur_r", "femur_r"],
+    "psoas_r": ["pelvis", "pelvis", "pelvis", "femur_r", "femur_r"],
+}
+
 URDF = '<skeleton file="hip_r.urdf"/>'
 # The subject's own OpenSim model: every body is given in the CT frame, so the rest pose is the
 # one with every body frame at ground (models/hip/README.md, "The subject's OpenSim model").
@@ -42,8 +50,9 @@ SCENES = [
 ]
 
 
-def path_text(points):
-    return "; ".join(" ".join(f"{c:g}" for c in p) for p in points)
+def path_text(points, bodies):
+    assert len(points) == len(bodies)
+    return "; ".join(" ".join(f"{c:g}" for c in p) + " @ " + body for p, body in zip(points, bodies))
 
 
 def main():
@@ -72,7 +81,7 @@ def main():
                 f"      <centres>{kernels}</centres>",
                 f"      <origin_area>{AREAS}: {', '.join(origin)}</origin_area>",
                 f"      <insertion_area>{AREAS}: {', '.join(insertion)}</insertion_area>",
-                f"      <line_of_action>{path_text(paths[path])}</line_of_action>",
+                f"      <line_of_action>{path_text(paths[path], PATH_BODIES[path])}</line_of_action>",
                 "      <socket_origin_body>pelvis</socket_origin_body>",
                 "      <socket_insertion_body>femur_r</socket_insertion_body>",
                 "    </RBFMuscle>",

@@ -39,6 +39,38 @@ ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone,
   return path;
 }
 
+ViaPointText splitViaPointBodies(const std::string& text) {
+  ViaPointText split;
+  if (text.find('@') == std::string::npos) {
+    split.points = text;
+    return split;
+  }
+  const auto trim = [](const std::string& s) {
+    const size_t begin = s.find_first_not_of(" \t\r\n"), end = s.find_last_not_of(" \t\r\n");
+    return begin == std::string::npos ? std::string() : s.substr(begin, end - begin + 1);
+  };
+  std::vector<std::string> items;
+  for (size_t begin = 0;;) {
+    const size_t end = text.find(';', begin);
+    items.push_back(text.substr(begin, end == std::string::npos ? std::string::npos : end - begin));
+    if (end == std::string::npos) break;
+    begin = end + 1;
+  }
+  if (items.size() > 1 && trim(items.back()).empty()) items.pop_back();  // a trailing ';'
+  for (size_t i = 0; i < items.size(); ++i) {
+    const std::string where = "via point " + std::to_string(i + 1) + " '" + trim(items[i]) + "'";
+    const size_t at = items[i].find('@');
+    if (at == std::string::npos)
+      throw std::invalid_argument(where + " names no body; write 'x y z @ BODY' for every point or for none");
+    const std::string body = trim(items[i].substr(at + 1));
+    if (body.empty() || body.find_first_of(" \t\r\n@") != std::string::npos)
+      throw std::invalid_argument(where + ": expected one body name after '@'");
+    split.bodies.push_back(body);
+    split.points += (i ? ";" : "") + items[i].substr(0, at);
+  }
+  return split;
+}
+
 double calcPathLength(const ViaPointPath& path, const std::vector<Eigen::Isometry3d>& bone_motion_M,
                       const Eigen::VectorXd& q) {
   if (!path.conditions.empty() && path.conditions.size() != static_cast<size_t>(path.points_mm.cols()))

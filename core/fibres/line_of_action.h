@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <string>
 #include <vector>
 
 namespace rbfmuscle {
@@ -34,6 +35,20 @@ struct ViaPointPath {
 ///   [0, B) with B = bones_M.size() (when non-empty) or a pointer is null.
 ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone, int last_bone,
                               const std::vector<const MeshDistance*>& bones_M);
+
+/// A via-point path written as text: the points, and the body each one is fixed to.
+struct ViaPointText {
+  std::string points;               ///< the points alone, "x y z; …" (for parseAttachmentAreaSpec)
+  std::vector<std::string> bodies;  ///< body of each point; empty when the text names none
+};
+
+/// Splits a path written "x y z @ BODY; x y z @ BODY; …" into its points and bodies. A text
+/// without '@' is returned whole, with no bodies. Bodies are needed wherever the path bends
+/// over a bone: a via point where a muscle wraps over the pelvis can lie nearer the femur
+/// than the pelvis, and halfway along the path is no rule for it either.
+/// @throws std::invalid_argument naming the 1-based point when some points name a body and
+///   others do not, or a body name is empty or has white space inside.
+ViaPointText splitViaPointBodies(const std::string& text);
 
 /// Length (mm) of the path through its points that are on it at coordinates `q` (rad or mm),
 /// each moved by its bone's transform (bone_motion_M[b]: rest → now, M).

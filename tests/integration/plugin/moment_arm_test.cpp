@@ -4,7 +4,7 @@
 /// The moment arm the component reports at a frame is checked against the central difference
 /// of fibre lengths over separate frames at q ± δ (the frame depends on its poses only, so the
 /// two agree to rounding), against a coarser difference, and the line of action's against the
-/// analytic moment arm of a straight line.
+/// analytic moment arm of a straight line from its via point.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -26,11 +26,15 @@ constexpr double kStep = kMomentArmStep_rad;
 const Eigen::Vector3d kHinge_mm(100, -40, 0);
 const Eigen::Vector3d kOriginMean_mm(5, 0, 0), kInsertionMean_mm(195, 0, 0);
 
-/// −∂l/∂q of the straight line from the origin (fixed) to the insertion turned by q about z.
-double calcStraightLineArm_mm(double q) {
+/// The line of action's via point, on the upper body although it lies halfway along the path
+/// (where the path without bodies would put it on the lower one).
+const Eigen::Vector3d kViaPoint_mm(100, 0, 0);
+
+/// −∂l/∂q of the straight line from `fixed_mm` (on the upper body) to the insertion turned by q about z.
+double calcStraightLineArm_mm(double q, const Eigen::Vector3d& fixed_mm = kOriginMean_mm) {
   const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d insertion = kHinge_mm + Eigen::AngleAxisd(q, z) * (kInsertionMean_mm - kHinge_mm);
-  const Eigen::Vector3d along = (insertion - kOriginMean_mm).normalized();
+  const Eigen::Vector3d along = (insertion - fixed_mm).normalized();
   return -along.dot(z.cross(insertion - kHinge_mm));
 }
 
@@ -65,6 +69,7 @@ class MomentArmScene : public ::testing::Test {
         << "      <origin_area>5 0 0; 5 10 10; 5 -10 10; 5 10 -10; 5 -10 -10</origin_area>\n"
         << "      <insertion_area>195 0 0; 195 10 10; 195 -10 10; 195 10 -10; 195 -10 -10</insertion_area>\n"
         << "      <moment_arms>hinge</moment_arms>\n"
+        << "      <line_of_action>5 0 0 @ upper; 100 0 0 @ upper; 195 0 0 @ lower</line_of_action>\n"
         << "      <socket_origin_body>upper</socket_origin_body>\n      <socket_insertion_body>lower</socket_insertion_body>\n"
         << "    </RBFMuscle>\n  </components>\n</RBFMuscleModel>\n";
     const test::HostResult r = test::runHost("run '" + (dir_ / "model.xml").string() + "' -o '" + (dir_ / "out").string() +
@@ -114,9 +119,11 @@ TEST_F(MomentArmScene, StraightFibresHaveTheLeverOfTheirHeightAtRest) {
   }
 }
 
-TEST_F(MomentArmScene, LineOfActionArmIsTheStraightLinesAnalyticArm) {
+TEST_F(MomentArmScene, LineOfActionArmIsTheAnalyticArmOfItsLastSegment) {
+  // Only the segment from the via point (upper body) to the insertion (lower body) changes length.
+  // The reported arm is a central difference: its error is O(δ²), here up to about 1e-3 mm.
   for (size_t row = 0; row < kAngles.size(); ++row)
-    EXPECT_NEAR(value(row, "line_of_action_moment_arm_hinge_mm"), calcStraightLineArm_mm(kAngles[row]), 1e-3)
+    EXPECT_NEAR(value(row, "line_of_action_moment_arm_hinge_mm"), calcStraightLineArm_mm(kAngles[row], kViaPoint_mm), 3e-3)
         << "frame " << row;
 }
 

@@ -193,6 +193,16 @@ TEST(RBFMusclePlugin, AnAreaAwayFromTheMuscleIsRefused) {
   EXPECT_NE(r.err.find("origin_area: no kernel centre lies within attachment_radius_mm"), std::string::npos) << r.err;
 }
 
+TEST(RBFMusclePlugin, AViaPointOnABodyTheSkeletonLacksIsRefusedNamingIt) {
+  const fs::path dir = testDir("via_point_body");
+  const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
+                                         "' --quiet --set 'glmax_r.line_of_action=180 300 -340 @ pelvis; 100 280 -530 @ femur'",
+                                     "plugin", "via_point_body");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("line_of_action: via point 2: no body 'femur' in the skeleton"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 TEST(RBFMusclePlugin, AFormerPropertyNameIsRefusedListingTheCurrentOnes) {
   const fs::path dir = testDir("former_property");
   const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +

@@ -5,6 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 namespace rbfmuscle {
 namespace {
@@ -63,6 +66,30 @@ TEST(LineOfAction, BadInputIsRefused) {
   EXPECT_THROW(makeViaPointPath(Eigen::Matrix3Xd::Zero(3, 1), 0, 1, {}), std::invalid_argument);
   const ViaPointPath path{Eigen::Matrix3Xd::Zero(3, 2), {0, 3}, {}};
   EXPECT_THROW(calcPathLength(path, {Eigen::Isometry3d::Identity()}), std::invalid_argument);
+}
+
+TEST(LineOfAction, ViaPointBodiesAreSplitFromTheirPoints) {
+  const ViaPointText split = splitViaPointBodies(" 1 2 3 @ pelvis;4 5 6@femur_r ; 7 8 9 @femur_r;\n");
+  EXPECT_EQ(split.bodies, (std::vector<std::string>{"pelvis", "femur_r", "femur_r"}));
+  EXPECT_EQ(split.points, " 1 2 3 ;4 5 6; 7 8 9 ");
+  const ViaPointText plain = splitViaPointBodies("1 2 3; 4 5 6");
+  EXPECT_TRUE(plain.bodies.empty());
+  EXPECT_EQ(plain.points, "1 2 3; 4 5 6");
+}
+
+TEST(LineOfAction, ViaPointBodiesMustBeGivenForEveryPoint) {
+  const auto message = [](const std::string& text) {
+    try {
+      splitViaPointBodies(text);
+    } catch (const std::invalid_argument& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_EQ(message("1 2 3 @ pelvis; 4 5 6"),
+            "via point 2 '4 5 6' names no body; write 'x y z @ BODY' for every point or for none");
+  EXPECT_EQ(message("1 2 3 @ ; 4 5 6 @ femur"), "via point 1 '1 2 3 @': expected one body name after '@'");
+  EXPECT_EQ(message("1 2 3 @ femur r; 4 5 6 @ femur"), "via point 1 '1 2 3 @ femur r': expected one body name after '@'");
 }
 
 }  // namespace
