@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "fibres/line_of_action.h"
 
+#include "io/text.h"
+
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -45,24 +47,14 @@ ViaPointText splitViaPointBodies(const std::string& text) {
     split.points = text;
     return split;
   }
-  const auto trim = [](const std::string& s) {
-    const size_t begin = s.find_first_not_of(" \t\r\n"), end = s.find_last_not_of(" \t\r\n");
-    return begin == std::string::npos ? std::string() : s.substr(begin, end - begin + 1);
-  };
-  std::vector<std::string> items;
-  for (size_t begin = 0;;) {
-    const size_t end = text.find(';', begin);
-    items.push_back(text.substr(begin, end == std::string::npos ? std::string::npos : end - begin));
-    if (end == std::string::npos) break;
-    begin = end + 1;
-  }
-  if (items.size() > 1 && trim(items.back()).empty()) items.pop_back();  // a trailing ';'
+  std::vector<std::string> items = io::splitTrimmed(text, ';');
+  if (items.size() > 1 && items.back().empty()) items.pop_back();  // a trailing ';'
   for (size_t i = 0; i < items.size(); ++i) {
-    const std::string where = "via point " + std::to_string(i + 1) + " '" + trim(items[i]) + "'";
+    const std::string where = "via point " + std::to_string(i + 1) + " '" + items[i] + "'";
     const size_t at = items[i].find('@');
     if (at == std::string::npos)
       throw std::invalid_argument(where + " names no body; write 'x y z @ BODY' for every point or for none");
-    const std::string body = trim(items[i].substr(at + 1));
+    const std::string body = io::trimWhitespace(items[i].substr(at + 1));
     if (body.empty() || body.find_first_of(" \t\r\n@") != std::string::npos)
       throw std::invalid_argument(where + ": expected one body name after '@'");
     split.bodies.push_back(body);

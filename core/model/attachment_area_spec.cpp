@@ -6,26 +6,14 @@
 #include <filesystem>
 #include <sstream>
 
+#include "io/text.h"
 #include "model/attachment_areas.h"
 
 namespace rbfmuscle {
 namespace {
 
-std::string trim(const std::string& s) {
-  const char* ws = " \t\r\n";
-  const auto b = s.find_first_not_of(ws);
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(ws) - b + 1);
-}
-
-std::vector<std::string> split(const std::string& s, char separator) {
-  std::vector<std::string> parts;
-  std::stringstream in(s);
-  std::string part;
-  while (std::getline(in, part, separator)) parts.push_back(trim(part));
-  if (!s.empty() && s.back() == separator) parts.push_back("");
-  return parts;
-}
+using io::splitTrimmed;
+using io::trimWhitespace;
 
 /// Throws quoting the spec (cut to 80 characters).
 [[noreturn]] void fail(const std::string& spec, const std::string& what) {
@@ -36,11 +24,11 @@ std::vector<std::string> split(const std::string& s, char separator) {
 /// "FILE: NAME, NAME, ..." read from FILE (relative to `base_directory`).
 std::vector<AttachmentArea> readFileReference(const std::string& spec, std::size_t colon,
                                               const std::string& base_directory) {
-  const std::string file = trim(spec.substr(0, colon));
+  const std::string file = trimWhitespace(spec.substr(0, colon));
   if (file.empty()) fail(spec, "no file before ':'; expected \"FILE: NAME, NAME, ...\"");
-  const std::string list = trim(spec.substr(colon + 1));
+  const std::string list = trimWhitespace(spec.substr(colon + 1));
   if (list.empty()) fail(spec, "no cloud names after ':'; expected \"FILE: NAME, NAME, ...\"");
-  const std::vector<std::string> names = split(list, ',');
+  const std::vector<std::string> names = splitTrimmed(list, ',');
   for (std::size_t i = 0; i < names.size(); ++i)
     if (names[i].empty())
       fail(spec, "cloud name " + std::to_string(i + 1) + " of " + std::to_string(names.size()) +
@@ -53,7 +41,7 @@ std::vector<AttachmentArea> readFileReference(const std::string& spec, std::size
 
 /// "x y z; x y z; ..." as one area named "inline".
 AttachmentArea readInlinePoints(const std::string& spec) {
-  std::vector<std::string> points = split(spec, ';');
+  std::vector<std::string> points = splitTrimmed(spec, ';');
   if (points.size() > 1 && points.back().empty()) points.pop_back();  // trailing ';'
   const std::size_t n = points.size();
   AttachmentArea area{"inline", Eigen::Matrix3Xd(3, static_cast<Eigen::Index>(n))};
@@ -96,7 +84,7 @@ AttachmentArea readInlinePoints(const std::string& spec) {
 
 std::vector<AttachmentArea> parseAttachmentAreaSpec(const std::string& spec,
                                                     const std::string& base_directory) {
-  const std::string text = trim(spec);
+  const std::string text = trimWhitespace(spec);
   if (text.empty())
     throw ModelError(
         "attachment area spec is empty; expected \"FILE: NAME, NAME, ...\" or inline points "

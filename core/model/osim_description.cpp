@@ -14,6 +14,7 @@
 #include <set>
 #include <sstream>
 
+#include "io/text.h"
 #include "model/model_error.h"
 #include "model/osim_joints.h"
 #include "model/osim_xml.h"
@@ -242,7 +243,7 @@ void OsimReader::readMassProperties(const OsimBody& b, SkeletonBody& out) const 
 }
 
 std::string OsimReader::resolveGeometryPath(const XMLElement& where, const std::string& file) const {
-  std::string name = trimText(file);
+  std::string name = io::trimWhitespace(file);
   std::replace(name.begin(), name.end(), '\\', '/');
   const fs::path as_written(name);
   const fs::path dir = fs::absolute(fs::path(getPath())).parent_path();
@@ -262,8 +263,8 @@ std::string OsimReader::resolveGeometryPath(const XMLElement& where, const std::
 
 void OsimReader::addMesh(const XMLElement& where, const std::string& file, const Eigen::Isometry3d& X_BM,
                          const Eigen::Vector3d& scale, std::vector<BodyMesh>& out) const {
-  if (trimText(file).empty()) return;
-  const std::string ext = toLower(fs::path(trimText(file)).extension().string());
+  if (io::trimWhitespace(file).empty()) return;
+  const std::string ext = toLower(fs::path(io::trimWhitespace(file)).extension().string());
   if (ext != ".vtp" && ext != ".stl" && ext != ".obj" && ext != ".ply")
     fail(&where, "geometry file '" + file + "': extension '" + ext + "' is not supported (expected .vtp, .stl, .obj or .ply)");
   BodyMesh m;

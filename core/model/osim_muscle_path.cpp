@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "io/text.h"
 #include "model/osim_xml.h"
 #include "model/skeleton.h"
 
@@ -108,17 +109,17 @@ std::optional<OsimMuscleReference> parseOsimMuscleReference(const std::string& s
   const std::size_t colon = spec.find(':');
   if (colon == std::string::npos) return std::nullopt;
   OsimMuscleReference reference;
-  reference.file = detail::trimText(spec.substr(0, colon));
+  reference.file = io::trimWhitespace(spec.substr(0, colon));
   const std::string extension = detail::toLower(std::filesystem::path(reference.file).extension().string());
   if (extension != ".osim") return std::nullopt;
   std::stringstream names(spec.substr(colon + 1));
   for (std::string name; std::getline(names, name, ',');) {
-    name = detail::trimText(name);
-    if (name.empty()) throw ModelError("\"" + detail::trimText(spec) + "\": an empty muscle name; expected \"FILE.osim: MUSCLE, MUSCLE, …\"");
+    name = io::trimWhitespace(name);
+    if (name.empty()) throw ModelError("\"" + io::trimWhitespace(spec) + "\": an empty muscle name; expected \"FILE.osim: MUSCLE, MUSCLE, …\"");
     reference.muscles.push_back(name);
   }
   if (reference.muscles.empty() || spec.back() == ',')
-    throw ModelError("\"" + detail::trimText(spec) + "\": no muscle name after ':' or a stray ','; expected \"FILE.osim: MUSCLE, …\"");
+    throw ModelError("\"" + io::trimWhitespace(spec) + "\": no muscle name after ':' or a stray ','; expected \"FILE.osim: MUSCLE, …\"");
   return reference;
 }
 

@@ -12,24 +12,19 @@
 #include <sstream>
 
 #include "io/file_checks.h"
+#include "io/text.h"
 #include "model/model_error.h"
 #include "model/osim_description.h"
 
 namespace rbfmuscle::detail {
 
+using io::trimWhitespace;
 using tinyxml2::XMLElement;
 
 std::string describeElement(const XMLElement& e) {
   std::string text = std::string("<") + e.Name();
   if (const char* name = e.Attribute("name")) text += std::string(" name=\"") + name + "\"";
   return text + ">";
-}
-
-std::string trimText(const std::string& s) {
-  const char* ws = " \t\r\n";
-  const auto b = s.find_first_not_of(ws);
-  if (b == std::string::npos) return "";
-  return s.substr(b, s.find_last_not_of(ws) - b + 1);
 }
 
 std::vector<std::string> splitWords(const std::string& s) {
@@ -46,7 +41,7 @@ std::string toLower(std::string s) {
 }
 
 std::string lastPathComponent(const std::string& path) {
-  std::string p = trimText(path);
+  std::string p = trimWhitespace(path);
   while (p.size() > 1 && p.back() == '/') p.pop_back();
   const auto slash = p.rfind('/');
   return slash == std::string::npos ? p : p.substr(slash + 1);
@@ -134,7 +129,7 @@ double OsimXml::number(const XMLElement& e, const char* name, double fallback) c
 
 std::string OsimXml::text(const XMLElement& e, const char* name) const {
   const XMLElement* c = e.FirstChildElement(name);
-  return c && c->GetText() ? trimText(c->GetText()) : "";
+  return c && c->GetText() ? trimWhitespace(c->GetText()) : "";
 }
 
 bool OsimXml::flag(const XMLElement& e, const char* name, bool fallback) const {

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "model/storage_file.h"
 
 #include <unistd.h>
@@ -14,21 +15,16 @@
 #include <sstream>
 
 #include "io/file_checks.h"
+#include "io/text.h"
 
 namespace rbfmuscle {
 namespace {
 
-std::string trim(const std::string& s) {
-  const char* ws = " \t\r\n";
-  const auto b = s.find_first_not_of(ws);
-  if (b == std::string::npos) return "";
-  const auto e = s.find_last_not_of(ws);
-  return s.substr(b, e - b + 1);
-}
+using io::trimWhitespace;
 
 /// `"text"` → `text`; anything else as it is.
 std::string unquote(const std::string& s) {
-  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') return trim(s.substr(1, s.size() - 2));
+  if (s.size() >= 2 && s.front() == '"' && s.back() == '"') return trimWhitespace(s.substr(1, s.size() - 2));
   return s;
 }
 
@@ -53,7 +49,7 @@ std::vector<std::string> splitLabels(const std::string& line) {
     std::stringstream ss(line);
     std::string item;
     while (std::getline(ss, item, '\t')) {
-      item = trim(item);
+      item = trimWhitespace(item);
       if (!item.empty()) out.push_back(item);
     }
   } else {
@@ -188,8 +184,8 @@ void readHeaderSetting(const LineCursor& cursor, const std::string& line, std::s
                        StorageTable& table) {
   const std::string& path = cursor.path;
   const int line_no = cursor.line_no;
-  const std::string key = unquote(trim(line.substr(0, eq)));
-  const std::string value = unquote(trim(line.substr(eq + 1)));
+  const std::string key = unquote(trimWhitespace(line.substr(0, eq)));
+  const std::string value = unquote(trimWhitespace(line.substr(eq + 1)));
   if (key == "inDegrees") {
     const std::string v = lower(value);
     if (v == "yes" || v == "true") table.in_degrees = true;
@@ -210,7 +206,7 @@ HeaderCounts readHeader(LineCursor& cursor, StorageTable& table) {
   HeaderCounts counts;
   bool have_end = false;
   while (cursor.next()) {
-    const std::string t = trim(cursor.line);
+    const std::string t = trimWhitespace(cursor.line);
     if (t == "endheader") {
       have_end = true;
       break;
@@ -240,7 +236,7 @@ HeaderCounts readHeader(LineCursor& cursor, StorageTable& table) {
 void readColumnLabels(LineCursor& cursor, const HeaderCounts& counts, StorageTable& table) {
   const std::string& path = cursor.path;
   while (cursor.next())
-    if (!trim(cursor.line).empty()) break;
+    if (!trimWhitespace(cursor.line).empty()) break;
   table.column_labels = splitLabels(cursor.line);
   if (table.column_labels.empty())
     fail(path, cursor.line_no, "no row of column labels after 'endheader'");
@@ -263,7 +259,7 @@ void readColumnLabels(LineCursor& cursor, const HeaderCounts& counts, StorageTab
 void readDataRows(LineCursor& cursor, StorageTable& table) {
   const std::size_t width = table.column_labels.size();
   while (cursor.next()) {
-    if (trim(cursor.line).empty()) continue;
+    if (trimWhitespace(cursor.line).empty()) continue;
     std::istringstream ss(cursor.line);
     std::vector<double> row;
     row.reserve(width);

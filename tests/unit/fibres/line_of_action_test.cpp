@@ -71,7 +71,7 @@ TEST(LineOfAction, BadInputIsRefused) {
 TEST(LineOfAction, ViaPointBodiesAreSplitFromTheirPoints) {
   const ViaPointText split = splitViaPointBodies(" 1 2 3 @ pelvis;4 5 6@femur_r ; 7 8 9 @femur_r;\n");
   EXPECT_EQ(split.bodies, (std::vector<std::string>{"pelvis", "femur_r", "femur_r"}));
-  EXPECT_EQ(split.points, " 1 2 3 ;4 5 6; 7 8 9 ");
+  EXPECT_EQ(split.points, "1 2 3 ;4 5 6;7 8 9 ");
   const ViaPointText plain = splitViaPointBodies("1 2 3; 4 5 6");
   EXPECT_TRUE(plain.bodies.empty());
   EXPECT_EQ(plain.points, "1 2 3; 4 5 6");
