@@ -27,4 +27,12 @@ inline std::vector<std::string> splitTrimmed(const std::string& s, char separato
   return parts;
 }
 
+/// The words of `s`, split at any white space.
+inline std::vector<std::string> splitWords(const std::string& s) {
+  std::istringstream in(s);
+  std::vector<std::string> words;
+  for (std::string word; in >> word;) words.push_back(word);
+  return words;
+}
+
 }  // namespace rbfmuscle::io

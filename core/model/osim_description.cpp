@@ -263,8 +263,9 @@ std::string OsimReader::resolveGeometryPath(const XMLElement& where, const std::
 
 void OsimReader::addMesh(const XMLElement& where, const std::string& file, const Eigen::Isometry3d& X_BM,
                          const Eigen::Vector3d& scale, std::vector<BodyMesh>& out) const {
-  if (io::trimWhitespace(file).empty()) return;
-  const std::string ext = toLower(fs::path(io::trimWhitespace(file)).extension().string());
+  const std::string name = io::trimWhitespace(file);
+  if (name.empty()) return;
+  const std::string ext = toLower(fs::path(name).extension().string());
   if (ext != ".vtp" && ext != ".stl" && ext != ".obj" && ext != ".ply")
     fail(&where, "geometry file '" + file + "': extension '" + ext + "' is not supported (expected .vtp, .stl, .obj or .ply)");
   BodyMesh m;
@@ -283,7 +284,7 @@ void OsimReader::readGeometry(const OsimBody& b, SkeletonBody& out) const {
     const auto outer = numbers(*visible, "transform", 6, {0, 0, 0, 0, 0, 0});
     const Eigen::Isometry3d X_outer = pose({outer[3], outer[4], outer[5]}, {outer[0], outer[1], outer[2]});
     if (const XMLElement* list = child(*visible, "geometry_files"))
-      for (const std::string& file : splitWords(list->GetText() ? list->GetText() : ""))
+      for (const std::string& file : io::splitWords(list->GetText() ? list->GetText() : ""))
         addMesh(*list, file, X_outer, outer_scale, out.meshes);
     const XMLElement* set = child(*visible, "GeometrySet");
     const XMLElement* objects = set ? child(*set, "objects") : nullptr;

@@ -9,6 +9,8 @@
 #include <utility>
 #include <vector>
 
+#include "io/text.h"
+
 namespace rbfmuscle::detail {
 namespace {
 
@@ -209,7 +211,7 @@ void OsimJointReader::readCustomJoint(const OsimJoint& j, const std::vector<std:
   std::vector<std::string> axis_coordinate(6);
   for (int i = 0; i < 6; ++i) {
     const XMLElement& a = *axes[static_cast<size_t>(i)];
-    const std::vector<std::string> names = splitWords(xml_.text(a, "coordinates"));
+    const std::vector<std::string> names = io::splitWords(xml_.text(a, "coordinates"));
     if (names.size() > 1)
       xml_.fail(&a, "is driven by " + std::to_string(names.size()) + " coordinates; at most one per axis is supported");
     const Eigen::Vector3d v = xml_.vec3(a, "axis", Eigen::Vector3d::Zero());

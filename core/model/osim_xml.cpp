@@ -18,6 +18,7 @@
 
 namespace rbfmuscle::detail {
 
+using io::splitWords;
 using io::trimWhitespace;
 using tinyxml2::XMLElement;
 
@@ -25,14 +26,6 @@ std::string describeElement(const XMLElement& e) {
   std::string text = std::string("<") + e.Name();
   if (const char* name = e.Attribute("name")) text += std::string(" name=\"") + name + "\"";
   return text + ">";
-}
-
-std::vector<std::string> splitWords(const std::string& s) {
-  std::istringstream in(s);
-  std::vector<std::string> out;
-  std::string w;
-  while (in >> w) out.push_back(w);
-  return out;
 }
 
 std::string toLower(std::string s) {

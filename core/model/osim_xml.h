@@ -16,7 +16,6 @@ namespace rbfmuscle::detail {
 
 /// `<Name name="value">` or `<Name>`.
 std::string describeElement(const tinyxml2::XMLElement& e);
-std::vector<std::string> splitWords(const std::string& s);
 std::string toLower(std::string s);
 /// Last component of an OpenSim component path ("/bodyset/pelvis" → "pelvis").
 std::string lastPathComponent(const std::string& path);

@@ -3,6 +3,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cstdio>
@@ -44,20 +45,10 @@ std::string lower(std::string s) {
 /// Splits a label row on tabs (labels may contain spaces), or on any white
 /// space when the row has no tab.
 std::vector<std::string> splitLabels(const std::string& line) {
-  std::vector<std::string> out;
-  if (line.find('\t') != std::string::npos) {
-    std::stringstream ss(line);
-    std::string item;
-    while (std::getline(ss, item, '\t')) {
-      item = trimWhitespace(item);
-      if (!item.empty()) out.push_back(item);
-    }
-  } else {
-    std::istringstream ss(line);
-    std::string item;
-    while (ss >> item) out.push_back(item);
-  }
-  return out;
+  if (line.find('\t') == std::string::npos) return io::splitWords(line);
+  std::vector<std::string> labels = io::splitTrimmed(line, '\t');
+  labels.erase(std::remove(labels.begin(), labels.end(), std::string()), labels.end());
+  return labels;
 }
 
 /// Parses a non-negative integer header value such as `nRows=12`.
