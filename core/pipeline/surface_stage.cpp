@@ -10,8 +10,8 @@ namespace rbfmuscle {
 SurfaceStage::SurfaceStage(std::shared_ptr<TissueLattice> lattice, TriangleMesh rest_surface_M,
                            const DeformedField& rest_field, const SurfaceSettings& settings)
     : lattice_(std::move(lattice)), rest_(std::move(rest_surface_M)), settings_(settings) {
-  if (settings.newton_steps < 1 || !(settings.tolerance > 0.0) || !(settings.max_step_mm > 0.0))
-    throw std::invalid_argument("SurfaceSettings: need newton_steps >= 1, tolerance > 0, max_step_mm > 0");
+  if (settings.newton_steps < 1 || settings.max_exit_steps < 1 || !(settings.tolerance > 0.0) || !(settings.max_step_mm > 0.0))
+    throw std::invalid_argument("SurfaceSettings: need newton_steps >= 1, max_exit_steps >= 1, tolerance > 0, max_step_mm > 0");
   binding_ = lattice_->bind(rest_.vertices_mm);
   lists_ = findMaterialNeighbours(rest_field, rest_.vertices_mm);
 }
@@ -41,6 +41,31 @@ FieldSample projectOnto(const ImplicitField& g, Eigen::Vector3d& p, const Surfac
   return at;
 }
 
+/// From p on f = 0 inside a bone, the first point where the ray into the muscle (along ∇f)
+/// leaves the bones: there s = 0 < f, the muscle's contact patch seen from p. Sphere tracing
+/// (a step of |s|, the distance to the nearest bone surface, cannot pass an exit), at most
+/// `max_exit_steps` steps. The exit is taken only within twice p's depth: further on, the ray
+/// ran along or through the bone, and p has no place on the contact patch (it is left in the
+/// bone, so it finds no surface). The nearest bone surface is no substitute: deep in a thin
+/// bone it flips from one face to the other, and a vertex jumped by 10 mm in one frame.
+void exitBoneIntoMuscle(const ImplicitField& field, const ImplicitField& bones, Eigen::Vector3d& p,
+                        const SurfaceSettings& settings) {
+  const Eigen::Vector3d g = field.calcGradient(p);
+  if (!(g.squaredNorm() > 1e-24)) return;
+  const Eigen::Vector3d inward = g.normalized();
+  const double reach_mm = -2.0 * bones.calcValue(p) + settings.tolerance;
+  double t = 0.0;
+  for (int step = 0; step < settings.max_exit_steps && t <= reach_mm; ++step) {
+    const Eigen::Vector3d q = p + t * inward;
+    const double s = bones.calcValue(q);
+    if (s >= -settings.tolerance) {
+      if (field.calcValue(q) > 0.0) p = q;
+      return;
+    }
+    t += -s + 0.5 * settings.tolerance;
+  }
+}
+
 }  // namespace
 
 void SurfaceStage::run(MuscleState& state, const FrameInput&) {
@@ -54,10 +79,12 @@ void SurfaceStage::run(MuscleState& state, const FrameInput&) {
     const int j = static_cast<int>(v);
     Eigen::Vector3d p = surface.vertices_mm.col(v);
     // First onto the field's surface f = 0 (smooth), then, where that lies in a bone, onto the
-    // bone's surface: the surface of min(f, s) is f = 0 outside the bones and s = 0 on them.
-    projectOnto(MuscleShape(state, lists_.begin(j), lists_.count(j), false), p, settings_);
+    // bone's face on the muscle's side: the surface of min(f, s) is f = 0 outside the bones and
+    // s = 0 on them.
+    const MuscleShape field(state, lists_.begin(j), lists_.count(j), false);
+    projectOnto(field, p, settings_);
     const MuscleShape shape(state, lists_.begin(j), lists_.count(j));
-    if (state.bones && state.bones->calcValue(p) < 0.0) projectOnto(*state.bones, p, settings_);
+    if (state.bones && state.bones->calcValue(p) < 0.0) exitBoneIntoMuscle(field, *state.bones, p, settings_);
     const double g = shape.calcValue(p);
     surface.vertices_mm.col(v) = p;
     if (std::abs(g) > settings_.tolerance) {  // the muscle there lies wholly in a bone: no surface left

@@ -16,11 +16,13 @@ struct SurfaceSettings {
   int newton_steps = 10;         ///< projection steps per vertex at most, ≥ 1
   double tolerance = 1e-3;       ///< stop a vertex when |min(f, s)| ≤ this (field unit ≈ mm)
   double max_step_mm = 2.0;      ///< longest projection step (mm), > 0
+  int max_exit_steps = 50;       ///< steps of the way out of a bone into the muscle at most, ≥ 1
 };
 
-/// The rest surface's vertices carried by the tissue map, then projected onto f = 0 and, where
-/// that lies in a bone, onto the bone's surface (Newton steps along the gradient, each halved
-/// until the residual drops): the surface of min(f, s), for pictures and for checking
+/// The rest surface's vertices carried by the tissue map, then projected onto f = 0 (Newton
+/// steps along the gradient, each halved until the residual drops) and, where that lies in a
+/// bone, out along the way into the muscle to the bone's face there, if it is within twice the
+/// depth: the surface of min(f, s), for pictures and for checking
 /// contacts, with no grid evaluated per frame. A vertex whose part of the muscle lies wholly
 /// in a bone finds no surface; its triangles are left out (the vertex stays, so vertices keep
 /// their index from frame to frame). Runs only when a frame asks for it.

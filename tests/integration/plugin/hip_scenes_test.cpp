@@ -12,12 +12,14 @@
 /// The gluteus also flexes to 120°, with the same checks but the jump and the pieces: beyond
 /// 97° it lies on the femur and its tracked surface falls in 2–4 pieces (disabled test). In the main job (flexion 0→80° in 1°
 /// frames) also: the gluteus's fibres lengthen and the iliacus's shorten at every frame, and no
-/// part of the gluteus's surface is further from the previous frame's surface than the femur
-/// moves there plus 1 mm. What does not hold yet is measured and printed here and asserted in the
-/// disabled tests below, named for what fails: the iliacus and the psoas jump by up to about
-/// 2 mm more than that beside the patches where they lie on a bone, and the psoas leaves up to
-/// about 70 fibre points outside where it crosses the pelvic brim, its fibres not shortening,
-/// and its flexion moment arm turns negative from about 45° of flexion.
+/// vertex of the gluteus's or the psoas's tracked surface is further from the previous frame's
+/// surface (its tracked mesh, or the vertex's own last place where that mesh lost triangles)
+/// than the femur moves there plus 1 mm. What does not hold yet is measured and printed here and
+/// asserted in the disabled tests below, named for what fails: at 80° the iliacus jumps by
+/// 0.03 mm more than that, where the bones' blend squeezes it to 5 % of its volume and its two
+/// sides meet, and the psoas leaves up to about 50 fibre points outside where it crosses the
+/// pelvic brim, its fibres not shortening, and its flexion moment arm turns negative from about
+/// 45° of flexion.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -189,7 +191,9 @@ class SurfaceWatch {
       // the surface there was the bone's contact patch, which the tracked mesh leaves out.
       if (!previous_ || !previous_used_[static_cast<size_t>(v)]) continue;
       const double allowance = (femur_step.inverse() * y - y).norm() + 1.0;  // the femur's move at y
-      const double jump = previous_->calcUnsignedDistance(y) - allowance;
+      // The previous surface is at most as far as the vertex's own last place, which was on it
+      // even where the tracked mesh there lost its triangles beside a contact patch.
+      const double jump = std::min(previous_->calcUnsignedDistance(y), (y - previous_vertices_.col(v)).norm()) - allowance;
       if (jump > worst_jump) worst_jump = jump, worst_jump_frame = row;
     }
     TriangleMesh surface;
@@ -197,6 +201,7 @@ class SurfaceWatch {
     surface.triangles = g.triangles;
     previous_ = std::make_unique<MeshDistance>(std::move(surface), false);
     previous_used_ = used;
+    previous_vertices_ = g.vertices_mm;
     return pieces;
   }
 
@@ -207,6 +212,7 @@ class SurfaceWatch {
   const SceneBones& bones_;
   std::unique_ptr<MeshDistance> previous_;  // the previous frame's surface
   std::vector<char> previous_used_;
+  Eigen::Matrix3Xd previous_vertices_;
 };
 
 /// Runs `scene` (models/hip/SCENE.xml with `motion_path`, absolute or in models/hip/motions)
@@ -255,11 +261,11 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
   fs::remove_all(out);
 }
 
-TEST(HipScenes, FlexionKeepsVolumeAndTheMusclesOutOfTheBonesGluteusLengthensIliacusShortensGluteusDoesNotJump) {
+TEST(HipScenes, FlexionKeepsVolumeAndTheMusclesOutOfTheBonesGluteusLengthensIliacusShortensGluteusAndPsoasDoNotJump) {
   SceneChecks checks;
   checks.flexion_sign = {"glmax_r", "iliacus_r"};
   checks.fibres_monotone = {"glmax_r", "iliacus_r"};
-  checks.jump_checked = {"glmax_r"};
+  checks.jump_checked = {"glmax_r", "psoas_r"};
   checks.one_piece = {"glmax_r"};
   checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
 }
@@ -305,10 +311,10 @@ TEST(HipScenes, DISABLED_GluteusBeyond97DegreesLosesTrianglesOnTheFemurIn2To4Pie
   checkScene("hip_flexion", writeFlexionTo120(), checks);
 }
 
-TEST(HipScenes, DISABLED_FlexionIliacusAndPsoasJumpUpTo2mmBeyondTheFemursMoveBesideTheirBoneContactPatches) {
+TEST(HipScenes, DISABLED_FlexionIliacusJumps0point03mmBeyondTheFemursMoveAt80DegreesWhereTheBlendSqueezesItFlat) {
   SceneChecks checks;
-  checks.flexion_sign = {"glmax_r", "iliacus_r"};
-  checks.jump_checked = {"iliacus_r", "psoas_r"};
+  checks.muscles = {"iliacus_r"};
+  checks.jump_checked = {"iliacus_r"};
   checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
 }
 

@@ -4,6 +4,7 @@
 #include "pipeline/muscle_pipeline.h"
 
 #include "../dynamics/dynamics_test_shapes.h"
+#include "collision/bone_distance_grid.h"
 #include "geometry/iso_surface.h"
 #include "geometry/mesh_measures.h"
 
@@ -122,6 +123,44 @@ TEST(MusclePipeline, ABentRodKeepsItsVolumeInOnePieceWithItsFibresInside) {
     EXPECT_EQ(countComponents(surface), 1) << degrees << "°";
     EXPECT_NEAR(calcVolume(surface) / rest_volume, 1.0, 0.03) << degrees << "°";
   }
+}
+
+/// A bone ridge (6 mm wide across the rod, along y) pushed 2 mm up into the rod's underside
+/// from below, where it did not touch the rod at rest. Tracked vertices of the underside are then
+/// in the bone; each must go where the way into the muscle leaves the bone, the ridge's top.
+/// From a vertex near the ridge's side, the nearest bone surface is that side instead: vertices
+/// gathered on the two sides and the tracked mesh stretched across the ridge.
+TEST(MusclePipeline, TrackedVerticesPushedIntoABoneGoOntoItsFaceTowardsTheMuscle) {
+  MuscleDefinition rod = makeRod();
+  MusclePipeline probe(rod, fewFibres());
+  double underside_mm = 0.0;  // the rest surface's lowest point under the rod's middle
+  const TriangleMesh& rest = probe.getRestSurface();
+  for (Eigen::Index v = 0; v < rest.vertices_mm.cols(); ++v)
+    if (std::abs(rest.vertices_mm(0, v)) < 3.0) underside_mm = std::min(underside_mm, rest.vertices_mm(2, v));
+  const Eigen::Vector3d lo(-3, -30, underside_mm - 8.0), hi(3, 30, underside_mm - 2.0);
+  rod.bones.push_back(ClearanceBone{"ridge", std::make_shared<BoneDistanceGrid>(test::makeBox(lo, hi))});
+  rod.rest_X_MB.push_back(Eigen::Isometry3d::Identity());
+  MusclePipeline pipeline(rod, fewFibres());
+  FrameInput input;
+  input.bone_motion_M.assign(2, Eigen::Isometry3d::Identity());
+  input.X_MB = {Eigen::Isometry3d(Eigen::Translation3d(0, 0, 4.0))};  // top now 2 mm above the underside
+  input.want_surface = true;
+  pipeline.run(input);
+  const TriangleMesh& surface = pipeline.getState().surface_M;
+  const double ridge_top_mm = hi.z() + 4.0;
+  int on_top = 0;
+  double longest_edge_mm = 0.0;
+  for (Eigen::Index t = 0; t < surface.triangles.cols(); ++t)
+    for (int e = 0; e < 3; ++e)
+      longest_edge_mm = std::max(longest_edge_mm, (surface.vertices_mm.col(surface.triangles(e, t)) -
+                                                   surface.vertices_mm.col(surface.triangles((e + 1) % 3, t))).norm());
+  for (Eigen::Index v = 0; v < surface.vertices_mm.cols(); ++v)
+    if (std::abs(surface.vertices_mm(0, v)) < 2.5 && std::abs(surface.vertices_mm(1, v)) < 3.0 &&
+        std::abs(surface.vertices_mm(2, v) - ridge_top_mm) < 0.05)
+      ++on_top;
+  EXPECT_GT(on_top, 4) << "tracked vertices on the ridge's top";
+  // The rest surface's edges are at most a cell diagonal (2 mm cells): nothing stretches across the ridge.
+  EXPECT_LT(longest_edge_mm, 2.0 * std::sqrt(3.0) + 0.5);
 }
 
 }  // namespace
