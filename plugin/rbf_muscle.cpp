@@ -186,7 +186,7 @@ void RBFMuscle::makeLineOfAction(const InitContext& context, const Eigen::Matrix
     if (line_of_action.get().find_first_not_of(" \t\r\n") == std::string::npos) {  // the areas' means
       Eigen::Matrix3Xd ends(3, 2);
       ends << origin_area_M.rowwise().mean(), insertion_area_M.rowwise().mean();
-      path = makeViaPointPath(ends, 0, 1, {});
+      path = makeViaPointPath(ends, 0, 1);
     } else if (const std::optional<OsimMuscleReference> reference = parseOsimMuscleReference(line_of_action.get())) {
       if (reference->muscles.size() != 1)
         throw FrameworkError("names " + std::to_string(reference->muscles.size()) + " muscles; expected one");
@@ -202,7 +202,7 @@ void RBFMuscle::makeLineOfAction(const InitContext& context, const Eigen::Matrix
       const ViaPointText text = splitViaPointBodies(line_of_action.get());
       const Eigen::Matrix3Xd points = joinAreas(parseAttachmentAreaSpec(text.points, context.getModelDirectory()));
       if (points.cols() < 2) throw FrameworkError("expected ≥ 2 points, got " + std::to_string(points.cols()));
-      path = makeViaPointPath(points.colwise() - frame_offset_mm_, 0, 1, {});
+      path = makeViaPointPath(points.colwise() - frame_offset_mm_, 0, 1);
       if (!text.bodies.empty()) {
         path_bodies_.clear();
         for (size_t i = 0; i < text.bodies.size(); ++i) {

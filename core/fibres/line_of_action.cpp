@@ -3,24 +3,17 @@
 
 #include "io/text.h"
 
-#include <limits>
 #include <stdexcept>
 #include <string>
 
 namespace rbfmuscle {
 
-ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone, int last_bone,
-                              const std::vector<const MeshDistance*>& bones_M) {
+ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone, int last_bone) {
   const Eigen::Index k = points_mm.cols();
   if (k < 2) throw std::invalid_argument("makeViaPointPath: a path needs ≥ 2 points, got " + std::to_string(k));
   if (!points_mm.allFinite()) throw std::invalid_argument("makeViaPointPath: a path point is not finite");
-  for (const MeshDistance* bone : bones_M)
-    if (bone == nullptr) throw std::invalid_argument("makeViaPointPath: null bone surface");
-  const int bone_count = static_cast<int>(bones_M.size());
   for (int bone : {first_bone, last_bone})
-    if (bone < 0 || (bone_count > 0 && bone >= bone_count))
-      throw std::invalid_argument("makeViaPointPath: bone " + std::to_string(bone) + " outside [0, " +
-                                  std::to_string(bone_count) + ")");
+    if (bone < 0) throw std::invalid_argument("makeViaPointPath: bone " + std::to_string(bone) + " is negative");
   ViaPointPath path{points_mm, std::vector<int>(static_cast<size_t>(k), first_bone), {}};
   path.bones.back() = last_bone;
   double total = 0;
@@ -28,15 +21,7 @@ ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone,
   double arc = 0;
   for (Eigen::Index i = 1; i + 1 < k; ++i) {
     arc += (points_mm.col(i) - points_mm.col(i - 1)).norm();
-    if (bones_M.empty()) {
-      path.bones[static_cast<size_t>(i)] = arc < 0.5 * total ? first_bone : last_bone;
-      continue;
-    }
-    double best = std::numeric_limits<double>::infinity();
-    for (int b = 0; b < bone_count; ++b) {
-      const double d = bones_M[static_cast<size_t>(b)]->calcUnsignedDistance(points_mm.col(i));
-      if (d < best) best = d, path.bones[static_cast<size_t>(i)] = b;
-    }
+    path.bones[static_cast<size_t>(i)] = arc < 0.5 * total ? first_bone : last_bone;
   }
   return path;
 }

@@ -2,8 +2,6 @@
 /// @file
 /// Via-point line-of-action paths (as OpenSim's GeometryPath without wrapping):
 /// points fixed to bones, length = Σ ‖T_{b(k+1)} p_{k+1} − T_{b(k)} p_k‖.
-#include "geometry/mesh_distance.h"
-
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
@@ -26,15 +24,12 @@ struct ViaPointPath {
   std::vector<PathPointCondition> conditions;  ///< empty (every point always on), or one per point
 };
 
-/// The path through `points_mm` (3×K, K ≥ 2, rest, M): the first point on `first_bone`,
-/// the last on `last_bone`, each intermediate point on the bone whose rest surface
-/// (bones_M[b], M) is nearest to it (ties: lowest index). With `bones_M` empty the
-/// intermediate points go by arc length instead: those before half the path's rest
-/// length on first_bone, the others on last_bone.
-/// @throws std::invalid_argument if K < 2, a point is not finite, a bone index is outside
-///   [0, B) with B = bones_M.size() (when non-empty) or a pointer is null.
-ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone, int last_bone,
-                              const std::vector<const MeshDistance*>& bones_M);
+/// The path through `points_mm` (3×K, K ≥ 2, rest, M): the first point on `first_bone`, the
+/// last on `last_bone`, and the intermediate points by arc length: those before half the
+/// path's rest length on first_bone, the others on last_bone. This is a default only; where a
+/// path bends over a bone, its points must name their bodies (splitViaPointBodies).
+/// @throws std::invalid_argument if K < 2, a point is not finite or a bone index is negative.
+ViaPointPath makeViaPointPath(const Eigen::Matrix3Xd& points_mm, int first_bone, int last_bone);
 
 /// A via-point path written as text: the points, and the body each one is fixed to.
 struct ViaPointText {

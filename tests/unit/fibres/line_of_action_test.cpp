@@ -12,25 +12,12 @@
 namespace rbfmuscle {
 namespace {
 
-/// One triangle around `c` (mm) in the plane z = c.z.
-TriangleMesh makeTriangleAt(const Eigen::Vector3d& c) {
-  TriangleMesh m;
-  m.vertices_mm.resize(3, 3);
-  m.vertices_mm << c.x() - 1, c.x() + 1, c.x(), c.y() - 1, c.y() - 1, c.y() + 1, c.z(), c.z(), c.z();
-  m.triangles.resize(3, 1);
-  m.triangles << 0, 1, 2;
-  return m;
-}
-
-TEST(LineOfAction, ViaPointsGoToTheNearestBone) {
+TEST(LineOfAction, ViaPointsGoByArcLengthToTheNearerEndsBone) {
   Eigen::Matrix3Xd p(3, 4);
   p << -30, -20, 10, 30, 0, 5, 5, 0, 0, 0, 0, 0;
-  const MeshDistance pelvis(makeTriangleAt(Eigen::Vector3d(-25, 10, 0)));
-  const MeshDistance femur(makeTriangleAt(Eigen::Vector3d(25, 10, 0)));
-  const ViaPointPath path = makeViaPointPath(p, 0, 1, {&pelvis, &femur});
-  EXPECT_EQ(path.bones, (std::vector<int>{0, 0, 1, 1}));
-  // Without surfaces: by arc length (half the rest length ≈ 31.6 mm).
-  EXPECT_EQ(makeViaPointPath(p, 0, 1, {}).bones, (std::vector<int>{0, 0, 1, 1}));
+  // Half the rest length ≈ 31.6 mm: the second point (11.2 mm along) on bone 0, the third (41.2) on bone 1.
+  EXPECT_EQ(makeViaPointPath(p, 0, 1).bones, (std::vector<int>{0, 0, 1, 1}));
+  EXPECT_EQ(makeViaPointPath(p, 1, 0).bones, (std::vector<int>{1, 1, 0, 0}));
 }
 
 TEST(LineOfAction, LengthOfAMovedPathIsAnalytic) {
@@ -63,7 +50,8 @@ TEST(LineOfAction, ConditionalPointIsOnThePathOnlyWithinItsRange) {
 }
 
 TEST(LineOfAction, BadInputIsRefused) {
-  EXPECT_THROW(makeViaPointPath(Eigen::Matrix3Xd::Zero(3, 1), 0, 1, {}), std::invalid_argument);
+  EXPECT_THROW(makeViaPointPath(Eigen::Matrix3Xd::Zero(3, 1), 0, 1), std::invalid_argument);
+  EXPECT_THROW(makeViaPointPath(Eigen::Matrix3Xd::Zero(3, 2), -1, 1), std::invalid_argument);
   const ViaPointPath path{Eigen::Matrix3Xd::Zero(3, 2), {0, 3}, {}};
   EXPECT_THROW(calcPathLength(path, {Eigen::Isometry3d::Identity()}), std::invalid_argument);
 }
