@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// @file
 /// The plugin's one exported symbol: registers its component types.
 #include "framework/registry.h"

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Readers (and the report-section writer) shared by scripts/speed_vs_error.py and scripts/render_hip.py.
 
 Python 3 with numpy (Debian: python3-numpy). Formats are the ones the host writes

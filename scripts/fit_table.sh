@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Reproduces the static-fit table of docs/design.md ("Fits"): fits every mesh with `rbfmuscle fit`
 # and prints one Markdown row per fit from the JSON line each fit prints last.
 # Usage: scripts/fit_table.sh [OUTDIR] [--long]   (--long adds 10000 centres and the global-shape search)

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Generate the hip motions in models/hip/motions/ (OpenSim .mot, degrees).
 
 Python 3 standard library only:   python3 scripts/make_hip_motions.py

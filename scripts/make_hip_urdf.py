@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: Apache-2.0
 """Generate models/hip/hip_r.urdf from models/hip/landmarks/hip_frame.json.
 
 Python 3 standard library only. Run from anywhere:

@@ -1,4 +1,5 @@
 #!/usr/bin/python3
+# SPDX-License-Identifier: Apache-2.0
 """Pictures of the hip scene: the muscles with the bones at 0, 40 and 80 degrees of
 flexion (offscreen PNG, matplotlib Poly3DCollection, meshes decimated by vertex
 clustering) and the fibre length curves against the hip angle.

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Installs what a fresh Debian machine lacks, then configures and builds rbfmuscle.
 # Idempotent and non-interactive: installed packages are skipped, the build is incremental.
 # Usage: scripts/setup.sh [BUILD_DIR]   (default: build)

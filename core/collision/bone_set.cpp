@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// @file
 /// BoneSet: FCL BVHs for the broad phase, MeshDistance for the exact per-probe query.
 ///

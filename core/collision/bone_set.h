@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Rigid bones for contact queries: bounding-volume hierarchies built once in each bone's

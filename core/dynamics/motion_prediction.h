@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// The dual-quaternion blend of bone motions that carries the tissue (tissue_lattice.h).

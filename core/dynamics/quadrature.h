@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Quadrature points of the curvature cost (and of the volume): a regular grid

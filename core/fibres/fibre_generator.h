@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Fibres of a muscle at rest: N polylines of S segments from the origin

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// The inside of a muscle field sampled on a regular grid, and shortest paths

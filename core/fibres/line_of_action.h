@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Via-point line-of-action paths (as OpenSim's GeometryPath without wrapping):

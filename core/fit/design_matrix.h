@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// The sparse design matrix A of a Gaussian fit, A(i, k) = φₖ(xᵢ), stored by

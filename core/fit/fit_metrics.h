@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// How good a fitted surface is: the dissertation's metric (Jaccard index and

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Mesh file in, fitted and measured surface out: what `rbfmuscle fit` does,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Greedy choice of Gaussian centres and shapes (dissertation Alg. 2, §7.2,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Halton low-discrepancy points: even, deterministic cover of a box.

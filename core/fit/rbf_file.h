@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// The .rbf file: a fitted Gaussian surface with everything needed to trust

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Fitting samples (dissertation Alg. 2, lines 3–7): mesh vertices, points ±d

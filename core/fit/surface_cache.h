@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Fitted surfaces cached by mesh hash: a run reuses a .rbf file fitted to the

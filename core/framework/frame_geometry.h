@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Per-frame geometry a component can expose for `rbfmuscle run --frames-mesh`

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "framework/model_document.h"
 
 #include <tinyxml2.h>

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// The model XML file, parsed (tinyxml2) into plain structs; no component is

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "framework/plugin_loader.h"
 
 #include "io/file_checks.h"

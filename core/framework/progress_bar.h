@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Progress of a run on stderr: frame i/N, frames/s and ETA. On a terminal the

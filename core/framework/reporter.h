@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// The reporter: one row per frame of time (s), every skeleton coordinate

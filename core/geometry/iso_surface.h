@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Triangle mesh of the zero level set of a scalar field sampled on a regular grid.

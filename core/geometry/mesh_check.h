@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Checks that a triangle mesh bounds a solid (closed, manifold, consistently and outward

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Distance from points to a triangle mesh, unsigned and signed, through a bounding-volume

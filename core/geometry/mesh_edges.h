@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Internal to rbfmuscle_geometry: the undirected edge table of a triangle mesh, shared by

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Mesh files: reading (PLY and VTK XML PolyData by own readers; STL, OBJ and every other

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Global measures of a triangle mesh: enclosed volume, surface area, components.

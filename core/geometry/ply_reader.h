@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Internal to rbfmuscle_geometry: a PLY reader of its own. assimp 5.2's binary PLY

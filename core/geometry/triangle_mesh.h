@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// The one mesh value type of the geometry layer: an indexed triangle mesh in mm.

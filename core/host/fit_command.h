@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// `rbfmuscle fit`: mesh in, fitted .rbf surface (and optionally its

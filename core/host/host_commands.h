@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// The `run` and `info` commands of the rbfmuscle host. The host only wires

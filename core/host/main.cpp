@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// @file
 /// rbfmuscle: the host. Parses the command, dispatches, and turns every
 /// failure into one line "rbfmuscle: error: ..." and a non-zero exit

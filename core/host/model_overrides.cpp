@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "host/model_overrides.h"
 
 #include "host/usage_error.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// A prescribed motion: coordinate values over frames, read from an OpenSim

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// The multibody skeleton: a Simbody tree built from a URDF file or an OpenSim model (.osim).

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// OpenSim storage files (.sto/.mot): header lines, `endheader`, one row of

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Internal to core/model: a URDF file read with urdfdom into plain values,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Sorting small index lists into ascending order, fast: the rbf sums run in

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "rbf/gaussian_field.h"
 
 #include "rbf/ascending_indices.h"

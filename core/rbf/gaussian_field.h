@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// The Gaussian RBF implicit field of a muscle: value, gradient, Hessian,

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "rbf/spatial_grid.h"
 
 #include "rbf/ascending_indices.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Uniform cell grid over a set of 3-D points for fixed-radius neighbour

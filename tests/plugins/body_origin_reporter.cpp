@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "body_origin_reporter.h"
 
 #include "framework/registry.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// Shared matrix comparison for every test suite: one place decides what
 /// "equal within tolerance" means and prints both operands on failure.

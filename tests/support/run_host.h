@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// Runs the built `rbfmuscle` executable as a subprocess for integration
 /// tests, capturing its exit code, stdout and stderr.

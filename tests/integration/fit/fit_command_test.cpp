@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// `rbfmuscle fit` end to end: the last stdout line is the JSON figures, the
 /// .rbf reads back, the PLY is closed; bad input fails with a clear message
 /// and leaves no output file.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// Integration tests of the rbfmuscle host: run the executable on model files
 /// under data/, with the test plugin (BodyOriginReporter), and check its
 /// outputs and its error messages.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// Integration tests of `rbfmuscle run --set COMPONENT.PROPERTY=VALUE` and
 /// `--motion FILE`: the overrides change the run as if written in the model
 /// file, and bad ones fail naming the assignment at fault.

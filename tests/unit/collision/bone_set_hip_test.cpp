@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// BoneSet on the real hip bones (femur_r, pelvis_r_proxy): signs agree with MeshDistance,
 /// the nearest bone is the one of least signed distance, answers are invariant under a
 /// rigid motion of bones and probes together.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// BoneSet against analytic bones: a cube and an icosphere, moved rigidly; broad phase
 /// versus none; transforms without rebuilds; bad input.
 #include "collision/bone_set.h"

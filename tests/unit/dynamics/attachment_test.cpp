@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "dynamics/attachment.h"
 
 #include "dynamics_test_shapes.h"

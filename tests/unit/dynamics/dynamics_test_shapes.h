@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// Small analytic muscles for the dynamics tests, and the surface distance they are judged by.

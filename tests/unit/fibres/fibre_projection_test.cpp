@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// projectInside and placeBetweenInsideNeighbours on small analytic fields: a thin rod
 /// thinner than one projection step (max f < margin), a thick rod, the flat field far
 /// outside, and an arc whose chord leaves the muscle.

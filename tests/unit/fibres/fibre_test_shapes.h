@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
 /// A small rod-shaped muscle for the fibre tests, its attachments and bends.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "fibres/line_of_action.h"
 
 #include "fibre_test_shapes.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// Fits small shapes end to end (samples → greedy → metrics) and checks the
 /// figures, the stop reasons, determinism and the worst case (tetrahedron).
 #include "fit/fit_pipeline.h"

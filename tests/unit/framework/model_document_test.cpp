@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "framework/model_document.h"
 
 #include "throws_with.h"

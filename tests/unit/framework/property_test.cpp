@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #include "throws_with.h"
 #include "toy_components.h"
 

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// Asserts that a call throws FrameworkError whose message contains a text.
 #include "framework/framework_error.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// Toy components for the framework unit tests: every property type, every
 /// socket kind, scalar and vector outputs.

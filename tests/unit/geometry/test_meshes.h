@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// Small meshes and file helpers shared by the geometry tests.
 #include <algorithm>

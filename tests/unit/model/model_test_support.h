@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// Helpers shared by the model tests: scratch files, error-message checks, and
 /// a minimal reader for the vertices of the binary PLY meshes in models/.

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// GaussianField: closed form of one Gaussian, every derivative against
 /// central finite differences (at random points, exactly at centres and
 /// 1e-6 mm from them), κ = tr(H)/3, translation invariance, cut-off

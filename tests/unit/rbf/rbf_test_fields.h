@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// Random Gaussian fields and finite-difference helpers shared by the rbf tests.
 #include "rbf/gaussian_field.h"

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /// SpatialGrid: queries equal a brute-force neighbour search (ascending),
 /// before and after points move, on lattices with exact-distance ties, and
 /// bad input is rejected with a message naming the value.
