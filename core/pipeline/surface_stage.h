@@ -22,10 +22,11 @@ struct SurfaceSettings {
 /// The rest surface's vertices carried by the tissue map, then projected onto f = 0 (Newton
 /// steps along the gradient, each halved until the residual drops) and, where that lies in a
 /// bone, out along the way into the muscle to the bone's face there, if it is within twice the
-/// depth: the surface of min(f, s), for pictures and for checking
-/// contacts, with no grid evaluated per frame. A vertex whose part of the muscle lies wholly
-/// in a bone finds no surface; its triangles are left out (the vertex stays, so vertices keep
-/// their index from frame to frame). Runs only when a frame asks for it.
+/// depth: the surface of min(f, s), for pictures and for checking contacts, with no grid
+/// evaluated per frame. A vertex whose part of the muscle lies wholly in a bone, or whose way
+/// into the muscle runs on through the bone, finds no surface; its triangles are left out (the
+/// vertex stays, so vertices keep their index from frame to frame). Runs only when a frame asks
+/// for it.
 class SurfaceStage final : public FrameStage {
  public:
   /// @param rest_surface_M the rest surface (M, mm), e.g. extracted once from the rest field
