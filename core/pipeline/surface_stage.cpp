@@ -41,28 +41,29 @@ FieldSample projectOnto(const ImplicitField& g, Eigen::Vector3d& p, const Surfac
   return at;
 }
 
-/// From p on f = 0 inside a bone, the first point where the ray into the muscle (along ∇f)
-/// leaves the bones: there s = 0 < f, the muscle's contact patch seen from p. Sphere tracing
-/// (a step of |s|, the distance to the nearest bone surface, cannot pass an exit), at most
-/// `max_exit_steps` steps. The exit is taken only within twice p's depth: further on, the ray
-/// ran along or through the bone, and p has no place on the contact patch (it is left in the
-/// bone, so it finds no surface). The nearest bone surface is no substitute: deep in a thin
-/// bone it flips from one face to the other, and a vertex jumped by 10 mm in one frame.
-void exitBoneIntoMuscle(const ImplicitField& field, const ImplicitField& bones, Eigen::Vector3d& p,
-                        const SurfaceSettings& settings) {
-  const Eigen::Vector3d g = field.calcGradient(p);
-  if (!(g.squaredNorm() > 1e-24)) return;
-  const Eigen::Vector3d inward = g.normalized();
-  const double reach_mm = -2.0 * bones.calcValue(p) + settings.tolerance;
+/// From p on f = 0 (∇f there: `gradient`), where p lies inside a bone: the first point where
+/// the ray into the muscle (along ∇f) leaves the bones: there s = 0 < f, the muscle's contact
+/// patch seen from p. Sphere tracing (a step of |s|, the distance to the nearest bone surface,
+/// cannot pass an exit), at most `max_exit_steps` steps. The exit is taken only within twice
+/// p's depth: further on, the ray ran along or through the bone, and p has no place on the
+/// contact patch (it is left in the bone, so it finds no surface). The nearest bone surface is
+/// no substitute: deep in a thin bone it flips from one face to the other, and a vertex jumped
+/// by 10 mm in one frame. A p outside the bones stays where it is.
+void exitBoneIntoMuscle(const ImplicitField& field, const Eigen::Vector3d& gradient, const ImplicitField& bones,
+                        Eigen::Vector3d& p, const SurfaceSettings& settings) {
+  double s = bones.calcValue(p);
+  if (!(s < 0.0) || !(gradient.squaredNorm() > 1e-24)) return;
+  const Eigen::Vector3d inward = gradient.normalized();
+  const double reach_mm = -2.0 * s + settings.tolerance;
   double t = 0.0;
   for (int step = 0; step < settings.max_exit_steps && t <= reach_mm; ++step) {
-    const Eigen::Vector3d q = p + t * inward;
-    const double s = bones.calcValue(q);
     if (s >= -settings.tolerance) {
+      const Eigen::Vector3d q = p + t * inward;
       if (field.calcValue(q) > 0.0) p = q;
       return;
     }
     t += -s + 0.5 * settings.tolerance;
+    s = bones.calcValue(p + t * inward);
   }
 }
 
@@ -82,9 +83,9 @@ void SurfaceStage::run(MuscleState& state, const FrameInput&) {
     // bone's face on the muscle's side: the surface of min(f, s) is f = 0 outside the bones and
     // s = 0 on them.
     const MuscleShape field(state, lists_.begin(j), lists_.count(j), false);
-    projectOnto(field, p, settings_);
+    const FieldSample on_field = projectOnto(field, p, settings_);
     const MuscleShape shape(state, lists_.begin(j), lists_.count(j));
-    if (state.bones && state.bones->calcValue(p) < 0.0) exitBoneIntoMuscle(field, *state.bones, p, settings_);
+    if (state.bones) exitBoneIntoMuscle(field, on_field.gradient, *state.bones, p, settings_);
     const double g = shape.calcValue(p);
     surface.vertices_mm.col(v) = p;
     if (std::abs(g) > settings_.tolerance) {  // the muscle there lies wholly in a bone: no surface left
