@@ -2,6 +2,7 @@
 #include "dynamics/attachment.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -109,6 +110,81 @@ Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen:
     weights.col(j) /= sum;
   }
   return weights;
+}
+
+namespace {
+
+/// Unit directions from c to the attached centres of each of the two bones.
+std::array<std::vector<Eigen::Vector3d>, 2> directionsOfAttached(const Eigen::Matrix3Xd& rest_centres_mm,
+                                                                 const Attachments& attachments,
+                                                                 const Eigen::Vector3d& c, const char* who) {
+  if (attachments.num_bones != 2)
+    throw std::invalid_argument(std::string(who) + ": needs 2 bones, got " + std::to_string(attachments.num_bones));
+  if (static_cast<Eigen::Index>(attachments.bone_of_centre.size()) != rest_centres_mm.cols())
+    throw std::invalid_argument(std::string(who) + ": attachments cover " +
+                                std::to_string(attachments.bone_of_centre.size()) + " centres, " +
+                                std::to_string(rest_centres_mm.cols()) + " given");
+  if (!c.allFinite()) throw std::invalid_argument(std::string(who) + ": the joint centre is not finite");
+  std::array<std::vector<Eigen::Vector3d>, 2> directions;
+  for (Eigen::Index k = 0; k < rest_centres_mm.cols(); ++k) {
+    const int b = attachments.bone_of_centre[static_cast<size_t>(k)];
+    const Eigen::Vector3d d = rest_centres_mm.col(k) - c;
+    if (b >= 0 && d.norm() > 0.0) directions[static_cast<size_t>(b)].push_back(d.normalized());
+  }
+  for (int b = 0; b < 2; ++b)
+    if (directions[static_cast<size_t>(b)].empty())
+      throw std::invalid_argument(std::string(who) + ": bone " + std::to_string(b) + " has no attached centre");
+  return directions;
+}
+
+/// Angle (rad) between u and the nearest of `directions`.
+double angleToNearest(const Eigen::Vector3d& u, const std::vector<Eigen::Vector3d>& directions) {
+  double cosine = -1.0;
+  for (const Eigen::Vector3d& d : directions) cosine = std::max(cosine, d.dot(u));
+  return std::acos(std::clamp(cosine, -1.0, 1.0));
+}
+
+}  // namespace
+
+Eigen::MatrixXd calcJointAngleBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen::Matrix3Xd& rest_centres_mm,
+                                           const Attachments& attachments, const Eigen::Vector3d& joint_centre_mm,
+                                           double end_fraction) {
+  const auto directions =
+      directionsOfAttached(rest_centres_mm, attachments, joint_centre_mm, "calcJointAngleBlendWeights");
+  if (!(end_fraction >= 0.0 && end_fraction < 0.5))
+    throw std::invalid_argument("calcJointAngleBlendWeights: end fraction " + std::to_string(end_fraction) +
+                                ", expected in [0, 0.5)");
+  const double slope = 1.0 / (1.0 - end_fraction);
+  const auto ramp = [&](double t) {  // h(t) for t ≤ ½; h(1 − t) = 1 − h(t)
+    return t < end_fraction ? slope * t * t / (2.0 * end_fraction) : slope * (t - 0.5 * end_fraction);
+  };
+  Eigen::MatrixXd weights(2, points_mm.cols());
+#pragma omp parallel for schedule(static)
+  for (Eigen::Index j = 0; j < points_mm.cols(); ++j) {
+    const Eigen::Vector3d d = points_mm.col(j) - joint_centre_mm;
+    double t = 0.5;  // at the centre itself, every direction is as near
+    if (d.norm() > 0.0) {
+      const double a0 = angleToNearest(d.normalized(), directions[0]);
+      const double a1 = angleToNearest(d.normalized(), directions[1]);
+      if (a0 + a1 > 0.0) t = a0 / (a0 + a1);
+    }
+    const double h = t <= 0.5 ? ramp(t) : 1.0 - ramp(1.0 - t);
+    weights(0, j) = 1.0 - h;
+    weights(1, j) = h;
+  }
+  return weights;
+}
+
+double calcAttachmentAngle(const Eigen::Matrix3Xd& rest_centres_mm, const Attachments& attachments,
+                           const Eigen::Vector3d& joint_centre_mm) {
+  const auto directions = directionsOfAttached(rest_centres_mm, attachments, joint_centre_mm, "calcAttachmentAngle");
+  double angle = M_PI;
+  for (const Eigen::Vector3d& u : directions[0]) angle = std::min(angle, angleToNearest(u, directions[1]));
+  return angle;
+}
+
+double calcFoldFreeTurn(double attachment_angle_rad, double end_fraction) {
+  return 4.0 * std::atan((1.0 - end_fraction) * attachment_angle_rad / 4.0);
 }
 
 }  // namespace rbfmuscle

@@ -72,4 +72,38 @@ void attachByLandmarks(const GaussianField& field, const std::vector<AttachmentL
 Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen::Matrix3Xd& rest_centres_mm,
                                  const Attachments& attachments, double length_mm, double power = 1.0);
 
+/// The part of each end of the angular transition where tissue turns with its bone to second
+/// order (calcJointAngleBlendWeights): flat enough at the ends that a fibre end on its area
+/// stays inside the muscle, at the cost of a fifth of the fold-free range.
+constexpr double kJointBlendEndFraction = 0.2;
+
+/// Blend weights (2×M) of the points (3×M, mm, M at rest) by their angle about the centre c
+/// of the joint between bone 0 and bone 1, instead of their distance: with a_b the angle at c
+/// between the point and the nearest attached centre of bone b, t = a_0 / (a_0 + a_1) and
+/// w_1 = h(t), w_0 = 1 − h(t), where h is the C¹ ramp that is quadratic on [0, e] and
+/// [1 − e, 1] and linear between (slope 1 / (1 − e), e = `end_fraction`).
+/// Why: bones turn about their joint, so the map is fold-free when a weight changes slowly
+/// with the angle about c. Blending a turn θ about an axis through c turns a point by w_1 θ,
+/// which scales the tissue along the turn by 1 + θ ∂w_1/∂φ; since a_0 + a_1 ≥ α, the
+/// smallest angle between the two bones' attached centres seen from c, |∂w_1/∂φ| ≤
+/// 1 / ((1 − e) α): no fold for turns up to (1 − e) α. (The dual-quaternion blend turns by
+/// up to 4 tan(θ/4) per unit of weight rather than θ, so the exact bound is
+/// calcFoldFreeTurn.) Tissue far from the joint, whose direction from c hardly changes along
+/// it, stays with the bone it points at.
+/// @throws std::invalid_argument if B ≠ 2, a bone has no attached centre, c is not finite,
+///   e ∉ [0, 0.5) or sizes differ.
+Eigen::MatrixXd calcJointAngleBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen::Matrix3Xd& rest_centres_mm,
+                                           const Attachments& attachments, const Eigen::Vector3d& joint_centre_mm,
+                                           double end_fraction = kJointBlendEndFraction);
+
+/// α: the smallest angle (rad) between an attached centre of bone 0 and one of bone 1, seen
+/// from `joint_centre_mm` (the fold-free turn of calcJointAngleBlendWeights is (1 − e) α).
+/// @throws std::invalid_argument as calcJointAngleBlendWeights.
+double calcAttachmentAngle(const Eigen::Matrix3Xd& rest_centres_mm, const Attachments& attachments,
+                           const Eigen::Vector3d& joint_centre_mm);
+
+/// The largest turn θ (rad) about an axis through the joint centre for which the weights of
+/// calcJointAngleBlendWeights cannot fold the dual-quaternion blend: 4 tan(θ/4) = (1 − e) α.
+double calcFoldFreeTurn(double attachment_angle_rad, double end_fraction = kJointBlendEndFraction);
+
 }  // namespace rbfmuscle

@@ -70,8 +70,10 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
       for (int side = 0; side < 2; ++side)
         neighbours_[static_cast<size_t>(n)][static_cast<size_t>(2 * axis + side)] =
             findNode(active[static_cast<size_t>(n)] + (side ? 1 : -1) * Eigen::Vector3i::Unit(axis));
-  node_weights_ = calcBlendWeights(rest_nodes_mm_, rest_centres_mm, attachments, settings_.blend_length_mm,
-                                   settings_.blend_power);
+  node_weights_ = settings_.joint_centre_mm
+                      ? calcJointAngleBlendWeights(rest_nodes_mm_, rest_centres_mm, attachments, *settings_.joint_centre_mm)
+                      : calcBlendWeights(rest_nodes_mm_, rest_centres_mm, attachments, settings_.blend_length_mm,
+                                         settings_.blend_power);
 
   if (settings_.incompressible && muscle_surface) {
     const ThicknessAxes axes = calcThicknessAxes(*muscle_surface, rest_nodes_mm_);

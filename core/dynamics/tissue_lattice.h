@@ -5,7 +5,8 @@
 /// the bone blend and thinned to keep the tissue's volume, interpolated everywhere else.
 ///
 /// 1. Blend: node x moves to Φ(x), the dual-quaternion blend of the bone motions with the
-///    blend weights of x (attachment.h: inverse squared distances to each bone's attachment).
+///    blend weights of x (attachment.h: inverse squared distances to each bone's attachment,
+///    or, given the joint's centre, angles about it).
 /// 2. Incompressibility: Φ stretches the tissue between bones turning apart without thinning
 ///    it (a flexed gluteus maximus grew by 40 %), and lowering the field to restore the volume
 ///    breaks thin parts first. So each node moves towards the muscle's rest mid-surface (or
@@ -28,6 +29,7 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <optional>
 #include <vector>
 
 namespace rbfmuscle {
@@ -48,6 +50,9 @@ struct LatticeSettings {
   bool incompressible = true;    ///< step 2 of the file comment (false: the blend alone)
   double max_thinning = 4.0;     ///< t is clamped to [1/max, max], ≥ 1
   int smoothing_passes = 3;      ///< Laplacian passes over the rest mid-surface vectors, ≥ 0
+  /// The centre of the joint between the two bones (M, mm): blend weights by angle about it
+  /// (calcJointAngleBlendWeights); none: by distance (calcBlendWeights, blend_length_mm, blend_power).
+  std::optional<Eigen::Vector3d> joint_centre_mm;
 };
 
 /// The carrying map (file comment). Rest set-up is expensive; update() and carry() are cheap.

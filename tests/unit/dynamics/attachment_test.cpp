@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace rbfmuscle {
 namespace {
@@ -70,6 +71,49 @@ TEST(Attachment, BlendWeightsWithAPowerAreNormalisedInversePowersOfTheDistances)
   EXPECT_NEAR(w2(0, 0) / w2(1, 0), ratio * ratio, 1e-9 * ratio * ratio);
   EXPECT_NEAR(w2.col(0).sum(), 1.0, 1e-15);
   EXPECT_THROW(calcBlendWeights(p, field.getCentres(), a, 1.0, 0.0), std::invalid_argument);
+}
+
+// Bone 0's kernels along +x, bone 1's along +y, both seen from the origin: α = 90°, and a point
+// at angle φ from +x in the xy plane has t = φ / 90°.
+struct RightAngle {
+  Eigen::Matrix3Xd centres;
+  Attachments attachments;
+  RightAngle() : centres(3, 4), attachments(makeFreeAttachments(4, 2)) {
+    centres << 30, 60, 0, 0,  //
+        0, 0, 30, 60,         //
+        0, 0, 0, 0;
+    attachments.bone_of_centre = {0, 0, 1, 1};
+  }
+};
+
+TEST(Attachment, JointAngleWeightsFollowTheRampOfTheAngleAtAnyDistanceFromTheJoint) {
+  const RightAngle a;
+  const double e = kJointBlendEndFraction, slope = 1.0 / (1.0 - e);
+  for (double phi_deg : {0.0, 5.0, 18.0, 30.0, 45.0, 70.0, 85.0, 90.0}) {
+    const double t = phi_deg / 90.0, u = std::min(t, 1.0 - t);
+    const double h_low = u < e ? slope * u * u / (2.0 * e) : slope * (u - 0.5 * e);
+    const double expected = t <= 0.5 ? h_low : 1.0 - h_low;
+    const double phi = phi_deg * M_PI / 180.0;
+    for (double r_mm : {5.0, 40.0, 900.0}) {
+      const Eigen::Matrix3Xd p = Eigen::Vector3d(r_mm * std::cos(phi), r_mm * std::sin(phi), 0.0);
+      const Eigen::MatrixXd w = calcJointAngleBlendWeights(p, a.centres, a.attachments, Eigen::Vector3d::Zero());
+      EXPECT_NEAR(w(1, 0), expected, 1e-12) << phi_deg << "° at " << r_mm << " mm";
+      EXPECT_NEAR(w.col(0).sum(), 1.0, 1e-15);
+    }
+  }
+  EXPECT_NEAR(calcAttachmentAngle(a.centres, a.attachments, Eigen::Vector3d::Zero()), M_PI / 2, 1e-15);
+}
+
+TEST(Attachment, JointAngleWeightsRefuseWhatTheyCannotUse) {
+  const RightAngle a;
+  const Eigen::Matrix3Xd p = Eigen::Vector3d(1, 1, 0);
+  Attachments one_bone = a.attachments;
+  one_bone.bone_of_centre = {0, 0, -1, -1};
+  EXPECT_THROW(calcJointAngleBlendWeights(p, a.centres, one_bone, Eigen::Vector3d::Zero()), std::invalid_argument);
+  EXPECT_THROW(calcJointAngleBlendWeights(p, a.centres, a.attachments, Eigen::Vector3d(NAN, 0, 0)),
+               std::invalid_argument);
+  EXPECT_THROW(calcJointAngleBlendWeights(p, a.centres, a.attachments, Eigen::Vector3d::Zero(), 0.5),
+               std::invalid_argument);
 }
 
 }  // namespace

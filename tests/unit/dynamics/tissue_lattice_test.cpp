@@ -18,8 +18,8 @@ struct Rod {
   TriangleMesh mesh = test::makeBox(Eigen::Vector3d(-38, -8, -6), Eigen::Vector3d(38, 8, 6));
 };
 
-TissueLattice makeLattice(const Rod& rod, bool incompressible) {
-  LatticeSettings settings;
+TissueLattice makeLattice(const Rod& rod, bool incompressible, const LatticeSettings& base = {}) {
+  LatticeSettings settings = base;
   settings.incompressible = incompressible;
   const MeshDistance surface(rod.mesh);
   std::vector<Eigen::Vector3d> grid;  // every point a test binds lies in [−40, 40] × [−10, 10] × [−8, 8]
@@ -107,6 +107,30 @@ TEST(TissueLattice, AStretchedRodThinsAcrossItsThicknessAndKeepsItsVolume) {
   ASSERT_GE(side, 0);
   EXPECT_LT(std::abs(thinned.getNodes()(1, side) - thinned.getNodes()(1, middle)),
             std::abs(blend_only.getNodes()(1, side) - blend_only.getNodes()(1, middle)) + 1e-9);
+}
+
+// The rod arches over a joint 30 mm below its middle, and its insertion bone turns about the
+// joint towards its origin: weights by angle about the joint keep the blend from folding up to
+// the turn calcFoldFreeTurn promises; weights by distance fold it there.
+TEST(TissueLattice, WeightsByAngleAboutTheJointDoNotFoldWhereWeightsByDistanceDo) {
+  const Rod rod;
+  const Eigen::Vector3d joint(0, -30, 0);
+  LatticeSettings by_angle;
+  by_angle.joint_centre_mm = joint;
+  const double alpha = calcAttachmentAngle(rod.field.getCentres(), rod.attachments, joint);
+  const double turn = 0.9 * calcFoldFreeTurn(alpha);
+  ASSERT_GT(turn, 0.5);
+  double least[2] = {};  // least blend J of each weighting, over both senses of the turn
+  for (int weighting = 0; weighting < 2; ++weighting) {
+    TissueLattice lattice = makeLattice(rod, false, weighting ? by_angle : LatticeSettings{});
+    least[weighting] = 1e300;
+    for (double sense : {1.0, -1.0}) {
+      lattice.update({Eigen::Isometry3d::Identity(), test::makeRotationAbout(joint, Eigen::Vector3d::UnitZ(), sense * turn)});
+      least[weighting] = std::min(least[weighting], lattice.getBlendVolumeChanges().minCoeff());
+    }
+  }
+  EXPECT_LT(least[0], 0.0) << "by distance";
+  EXPECT_GT(least[1], 0.0) << "by angle";
 }
 
 TEST(TissueLattice, PointsOutsideTheCoveredCellsAreRefused) {
