@@ -2,6 +2,7 @@
 #include "rbf_muscle.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <limits>
 #include <sstream>
@@ -13,6 +14,7 @@
 #include "geometry/mesh_distance.h"
 #include "geometry/solid_mesh.h"
 #include "model/attachment_areas.h"
+#include "model/joint_centre.h"
 #include "model/moment_arms.h"
 #include "model/osim_muscle_path.h"
 #include "model/skeleton.h"
@@ -75,6 +77,8 @@ RBFMuscle::RBFMuscle()
 RBFMuscle::~RBFMuscle() = default;
 
 void RBFMuscle::initialize(const InitContext& context) {
+  if (blend.get() != "distance" && blend.get() != "joint_angle")
+    throw FrameworkError("blend: '" + blend.get() + "'; expected 'distance' or 'joint_angle'");
   const Skeleton& skeleton = context.getSkeleton();
   FitSettings fit_settings;
   fit_settings.max_centres = centres.get();
@@ -123,6 +127,7 @@ void RBFMuscle::initialize(const InitContext& context) {
       }
 
   PipelineSettings settings;
+  if (blend.get() == "joint_angle") settings.lattice.joint_centre_mm = findJointCentre_M(skeleton, muscle);
   settings.quadrature_points = volume_settings.quadrature_points.get();
   settings.descent.max_iterations = descent_settings.iterations.get();
   settings.fibres = fibre_settings.count.get();
@@ -169,6 +174,25 @@ Eigen::Matrix3Xd RBFMuscle::readArea_M(const Property<std::string>& spec, const 
     points = joinAreas(parseAttachmentAreaSpec(spec.get(), context.getModelDirectory()));
   }
   return points.colwise() - frame_offset_mm_;
+}
+
+Eigen::Vector3d RBFMuscle::findJointCentre_M(const Skeleton& skeleton, const MuscleDefinition& muscle) const {
+  const std::string& from = skeleton.getBodyNames()[static_cast<size_t>(bone_bodies_[0])];
+  const std::string& to = skeleton.getBodyNames()[static_cast<size_t>(bone_bodies_[1])];
+  const Eigen::Vector3d centroid_G = muscle.rest_mesh_M.vertices_mm.rowwise().mean() + frame_offset_mm_;
+  const std::optional<JointCentre> joint = findJointCentre(skeleton, bone_bodies_[0], bone_bodies_[1], centroid_G);
+  if (!joint)
+    throw FrameworkError("blend 'joint_angle': no rotational coordinate turns " + to + " relative to " + from);
+  // A joint whose bodies also slide has no centre; 1 mm over the probes' 0.1 rad turns.
+  if (joint->residual_mm > 1.0)
+    throw FrameworkError("blend 'joint_angle': the joint between " + from + " and " + to + " moves any point by " +
+                         std::to_string(joint->residual_mm) + " mm over a 0.1 rad turn: it has no centre; use 'distance'");
+  const Eigen::Vector3d centre_M = joint->p_G_mm - frame_offset_mm_;
+  const double angle_rad = calcAttachmentAngle(muscle.rest_field.getCentres(), muscle.attachments, centre_M);
+  std::fprintf(stderr, "%s: blend by angle about the joint centre (%.2f %.2f %.2f) mm: the areas %.1f° apart, no fold up to %.1f°\n",
+               getName().c_str(), joint->p_G_mm.x(), joint->p_G_mm.y(), joint->p_G_mm.z(), angle_rad * 180.0 / M_PI,
+               calcFoldFreeTurn(angle_rad) * 180.0 / M_PI);
+  return centre_M;
 }
 
 void RBFMuscle::makeLineOfAction(const InitContext& context, const Eigen::Matrix3Xd& origin_area_M,

@@ -27,6 +27,7 @@ namespace rbfmuscle {
 
 class MomentArms;
 class MusclePipeline;
+struct MuscleDefinition;
 struct PipelineSettings;
 class Skeleton;
 struct ViaPointPath;
@@ -56,6 +57,12 @@ class RBFMuscle final : public Component {
                                        "half the path's length, else on the insertion body; 'FILE.osim: MUSCLE' (a "
                                        "muscle of the OpenSim model the skeleton is read from); '' = the straight "
                                        "line between the areas' means"};
+  Property<std::string> blend{this, "blend", "distance",
+                              "how the tissue between the bones takes their motions: 'distance' (weights by "
+                              "inverse squared distance to each bone's attached kernels) or 'joint_angle' (by angle "
+                              "about the centre of the joint between the two bodies, found from the skeleton: no fold "
+                              "while the joint turns less than about 0.8 of the angle between the areas seen from it, "
+                              "printed at start)"};
   Property<bool> contacts{this, "contacts", true,
                           "keep the muscle out of every body with a mesh (its collision meshes, else its visual ones; "
                           "false: bones are ignored)"};
@@ -86,6 +93,9 @@ class RBFMuscle final : public Component {
   void runFrame(const std::function<Eigen::Isometry3d(int)>& X_GB, const Eigen::VectorXd& q, bool want_surface);
   /// The moment-arm probe and its outputs for the coordinates `moment_arms` names.
   void makeMomentArmOutputs(const Skeleton& skeleton);
+  /// The centre (M, mm) of the joint between the origin and insertion bodies, for blend
+  /// 'joint_angle'. @throws FrameworkError when the bodies have no joint centre.
+  Eigen::Vector3d findJointCentre_M(const Skeleton& skeleton, const MuscleDefinition& muscle) const;
   /// Sets line_of_action_ and path_bodies_ from the property (default: the areas' means).
   void makeLineOfAction(const InitContext& context, const Eigen::Matrix3Xd& origin_area_M,
                         const Eigen::Matrix3Xd& insertion_area_M);

@@ -203,6 +203,17 @@ TEST(RBFMusclePlugin, AViaPointOnABodyTheSkeletonLacksIsRefusedNamingIt) {
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
+TEST(RBFMusclePlugin, AnUnknownBlendIsRefusedNamingTheOnesThereAre) {
+  const fs::path dir = testDir("unknown_blend");
+  const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
+                                         "' --quiet --set glmax_r.blend=angle",
+                                     "plugin", "unknown_blend");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("blend: 'angle'; expected 'distance' or 'joint_angle'"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("glmax_r"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
 TEST(RBFMusclePlugin, AFormerPropertyNameIsRefusedListingTheCurrentOnes) {
   const fs::path dir = testDir("former_property");
   const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
