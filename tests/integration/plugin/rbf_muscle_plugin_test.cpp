@@ -62,6 +62,13 @@ HostResult runModel(const fs::path& model, const fs::path& out, const std::strin
 
 const std::string kCachedGluteus = (kHip / "surfaces/gluteus_maximus_r.rbf").string();
 
+/// Runs the gluteus model written into `dir` (with its cached surface) with more `run` options.
+HostResult runGluteusWith(const fs::path& dir, const std::string& options, const std::string& name) {
+  return test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
+                           "' --quiet " + options,
+                       "plugin", name);
+}
+
 TEST(RBFMusclePlugin, GluteusFollowsFlexionWithVolumeKept) {
   const fs::path dir = testDir("flexion");
   const HostResult r = runModel(writeModel(dir, kCachedGluteus), dir / "out", "flexion");
@@ -195,9 +202,8 @@ TEST(RBFMusclePlugin, AnAreaAwayFromTheMuscleIsRefused) {
 
 TEST(RBFMusclePlugin, AViaPointOnABodyTheSkeletonLacksIsRefusedNamingIt) {
   const fs::path dir = testDir("via_point_body");
-  const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
-                                         "' --quiet --set 'glmax_r.line_of_action=180 300 -340 @ pelvis; 100 280 -530 @ femur'",
-                                     "plugin", "via_point_body");
+  const HostResult r =
+      runGluteusWith(dir, "--set 'glmax_r.line_of_action=180 300 -340 @ pelvis; 100 280 -530 @ femur'", "via_point_body");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("line_of_action: via point 2: no body 'femur' in the skeleton"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "out"));
@@ -205,9 +211,7 @@ TEST(RBFMusclePlugin, AViaPointOnABodyTheSkeletonLacksIsRefusedNamingIt) {
 
 TEST(RBFMusclePlugin, AnUnknownBlendIsRefusedNamingTheOnesThereAre) {
   const fs::path dir = testDir("unknown_blend");
-  const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
-                                         "' --quiet --set glmax_r.blend=angle",
-                                     "plugin", "unknown_blend");
+  const HostResult r = runGluteusWith(dir, "--set glmax_r.blend=angle", "unknown_blend");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("blend: 'angle'; expected 'distance' or 'joint_angle'"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("glmax_r"), std::string::npos) << r.err;
@@ -216,9 +220,7 @@ TEST(RBFMusclePlugin, AnUnknownBlendIsRefusedNamingTheOnesThereAre) {
 
 TEST(RBFMusclePlugin, AFormerPropertyNameIsRefusedListingTheCurrentOnes) {
   const fs::path dir = testDir("former_property");
-  const HostResult r = test::runHost("run '" + writeModel(dir, kCachedGluteus).string() + "' -o '" + (dir / "out").string() +
-                                         "' --quiet --set glmax_r.max_surface_step_mm=0.5",
-                                     "plugin", "former_property");
+  const HostResult r = runGluteusWith(dir, "--set glmax_r.max_surface_step_mm=0.5", "former_property");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("max_surface_step_mm"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("origin_area"), std::string::npos) << "lists the properties there are:\n" << r.err;
