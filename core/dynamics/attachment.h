@@ -18,7 +18,9 @@
 /// softening length ℓ > 0 (mm) that keeps them finite on an attached centre. Bones without
 /// attached centres get weight 0. Σ_b w_b = 1 up to rounding; ℓ → ∞ gives equal weights.
 /// (A soft-min exp(−d_b/ℓ) put the whole change into a band of a few ℓ and split a flexed
-/// muscle there; see calcBlendWeights for the power.)
+/// muscle there; see calcBlendWeights for the power.) Given the centre of the joint between
+/// the two bones, the weights can instead go by angle about it (calcJointAngleBlendWeights),
+/// which cannot fold the blend within a turn that the areas' angle sets.
 #include "rbf/gaussian_field.h"
 
 #include <Eigen/Core>
