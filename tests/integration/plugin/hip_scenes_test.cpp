@@ -19,7 +19,8 @@
 /// 0.03 mm more than that, where the bones' blend squeezes it to 5 % of its volume and its two
 /// sides meet, and the psoas leaves up to about 50 fibre points outside where it crosses the
 /// pelvic brim, its fibres not shortening, and its flexion moment arm turns negative from about
-/// 45° of flexion.
+/// 45° of flexion. Blended by angle about the hip (blend = joint_angle), the psoas shortens at
+/// every frame with a flexion moment arm and does not jump (its own test).
 #include <gtest/gtest.h>
 #include <unistd.h>
 
