@@ -75,8 +75,8 @@ Eigen::MatrixXd calcBlendWeights(const Eigen::Matrix3Xd& points_mm, const Eigen:
                                  const Attachments& attachments, double length_mm, double power = 1.0);
 
 /// The part of each end of the angular transition where tissue turns with its bone to second
-/// order (calcJointAngleBlendWeights): flat enough at the ends that a fibre end on its area
-/// stays inside the muscle, at the cost of a fifth of the fold-free range.
+/// order (calcJointAngleBlendWeights), so tissue next to an area moves little off its bone, at
+/// the cost of a fifth of the fold-free range (docs/design.md measures 0, 0.1, 0.2 and 0.3).
 constexpr double kJointBlendEndFraction = 0.2;
 
 /// Blend weights (2×M) of the points (3×M, mm, M at rest) by their angle about the centre c
@@ -99,7 +99,7 @@ Eigen::MatrixXd calcJointAngleBlendWeights(const Eigen::Matrix3Xd& points_mm, co
                                            double end_fraction = kJointBlendEndFraction);
 
 /// α: the smallest angle (rad) between an attached centre of bone 0 and one of bone 1, seen
-/// from `joint_centre_mm` (the fold-free turn of calcJointAngleBlendWeights is (1 − e) α).
+/// from `joint_centre_mm` (calcFoldFreeTurn turns it into the fold-free turn).
 /// @throws std::invalid_argument as calcJointAngleBlendWeights.
 double calcAttachmentAngle(const Eigen::Matrix3Xd& rest_centres_mm, const Attachments& attachments,
                            const Eigen::Vector3d& joint_centre_mm);
