@@ -182,7 +182,8 @@ Eigen::Vector3d RBFMuscle::findJointCentre_M(const Skeleton& skeleton, const Mus
   const Eigen::Vector3d centroid_G = muscle.rest_mesh_M.vertices_mm.rowwise().mean() + frame_offset_mm_;
   const std::optional<JointCentre> joint = findJointCentre(skeleton, bone_bodies_[0], bone_bodies_[1], centroid_G);
   if (!joint)
-    throw FrameworkError("blend 'joint_angle': no rotational coordinate turns " + to + " relative to " + from);
+    throw FrameworkError("blend 'joint_angle': no rotational coordinate turns " + to + " relative to " + from +
+                         "; use 'distance'");
   // A joint whose bodies also slide has no centre; 1 mm over the probes' 0.1 rad turns.
   if (joint->residual_mm > 1.0)
     throw FrameworkError("blend 'joint_angle': the joint between " + from + " and " + to + " moves any point by " +

@@ -57,7 +57,7 @@ class RBFMuscle final : public Component {
                                        "half the path's length, else on the insertion body; 'FILE.osim: MUSCLE' (a "
                                        "muscle of the OpenSim model the skeleton is read from); '' = the straight "
                                        "line between the areas' means"};
-  Property<std::string> blend{this, "blend", "distance",
+  Property<std::string> blend{this, "blend", "joint_angle",
                               "how the tissue between the bones takes their motions: 'distance' (weights by "
                               "inverse squared distance to each bone's attached kernels) or 'joint_angle' (by angle "
                               "about the centre of the joint between the two bodies, found from the skeleton: no fold "

@@ -30,6 +30,7 @@ ThicknessAxes calcThicknessAxes(const MeshDistance& muscle_surface, const Eigen:
   ThicknessAxes result;
   result.axes.resize(3, points_mm.cols());
   result.offsets_mm.resize(points_mm.cols());
+  result.half_chords_mm.resize(points_mm.cols());
   for (Eigen::Index j = 0; j < points_mm.cols(); ++j)
     if (!points_mm.col(j).allFinite())
       throw std::invalid_argument("calcThicknessAxes: point " + std::to_string(j) + " is not finite");
@@ -49,9 +50,11 @@ ThicknessAxes calcThicknessAxes(const MeshDistance& muscle_surface, const Eigen:
       const double mid = 0.5 * (inside + outside);
       (winding.isInside(q.point_mm + mid * n) ? inside : outside) = mid;
     }
-    const Eigen::Vector3d m = q.point_mm + 0.5 * (inside + outside) * 0.5 * n;
+    const double half_chord = 0.25 * (inside + outside);
+    const Eigen::Vector3d m = q.point_mm + half_chord * n;
     result.axes.col(j) = n;
     result.offsets_mm[j] = (x - m).dot(n);
+    result.half_chords_mm[j] = half_chord;
   }
   return result;
 }

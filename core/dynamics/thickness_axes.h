@@ -6,11 +6,12 @@
 ///
 /// Why: muscle is incompressible, but the bone blend that carries it is not (it lengthens a
 /// flexed gluteus maximus by about 40 % without thinning it). TissueLattice thins the tissue by
-/// the blend's own volume change J across this direction, about the mid-surface, so that
-/// neighbouring kernels move together as they thin and the muscle keeps one piece. Lowering
-/// the field everywhere (the weights, or the offset) instead moves the surface inward by the
-/// same amount everywhere, and breaks the thin parts first: the gluteus at 80° flexion fell
-/// into three pieces before it reached its rest volume.
+/// the blend's own volume change J across this direction, about the mid-surface (or about an
+/// end of the chord that lies on a bone), so that neighbouring kernels move together as they
+/// thin and the muscle keeps one piece. Lowering the field everywhere (the weights, or the
+/// offset) instead moves the surface inward by the same amount everywhere, and breaks the thin
+/// parts first: the gluteus at 80° flexion fell into three pieces before it reached its rest
+/// volume.
 #include "geometry/mesh_distance.h"
 
 #include <Eigen/Core>
@@ -21,6 +22,7 @@ namespace rbfmuscle {
 struct ThicknessAxes {
   Eigen::Matrix3Xd axes;         ///< n (3×P, unit): from the nearest surface point into the muscle
   Eigen::VectorXd offsets_mm;    ///< (x − m)·n (P, mm): signed distance from the mid-surface point m
+  Eigen::VectorXd half_chords_mm;  ///< h (P, mm): half the chord, so q = m − h n and the exit is m + h n
 };
 
 /// For each point x (3×P, mm, the mesh's frame): q its closest point on the closed muscle

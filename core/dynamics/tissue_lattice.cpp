@@ -22,9 +22,16 @@ Eigen::Vector3i cellOf(const Eigen::Vector3d& p, const Eigen::Vector3d& origin, 
 
 }  // namespace
 
+double calcOnBoneWeight(double clearance_mm, double half_thickness_mm) {
+  if (!(half_thickness_mm > 0.0) || !(clearance_mm < half_thickness_mm)) return 0.0;  // +∞ far from the bones
+  const double u = std::max(clearance_mm, 0.0) / half_thickness_mm;
+  return 1.0 - u * u * (3.0 - 2.0 * u);
+}
+
 TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Attachments& attachments,
                              const Eigen::Vector3d& origin_mm, double cell_mm, const Eigen::Matrix3Xd& cover_mm,
-                             const MeshDistance* muscle_surface, const LatticeSettings& settings)
+                             const MeshDistance* muscle_surface, const ImplicitField* rest_clearance,
+                             const LatticeSettings& settings)
     : num_bones_(attachments.num_bones), settings_(settings), origin_mm_(origin_mm), cell_mm_(cell_mm) {
   if (!(cell_mm > 0.0) || !std::isfinite(cell_mm) || !origin_mm.allFinite())
     throw std::invalid_argument("TissueLattice: the spacing must be > 0 and the origin finite");
@@ -77,27 +84,42 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
 
   if (settings_.incompressible && muscle_surface) {
     const ThicknessAxes axes = calcThicknessAxes(*muscle_surface, rest_nodes_mm_);
-    mid_vectors_mm_ = -(axes.axes.array().rowwise() * axes.offsets_mm.transpose().array()).matrix();
-    for (int pass = 0; pass < settings_.smoothing_passes; ++pass) {
-      Eigen::Matrix3Xd smoothed = mid_vectors_mm_;
+    Eigen::Matrix3Xd mid_vectors_mm = -(axes.axes.array().rowwise() * axes.offsets_mm.transpose().array()).matrix();
+    // The anchor moves from m towards each end of the chord that lies on a bone at rest.
+    anchor_vectors_mm_ = mid_vectors_mm;
+    if (rest_clearance)
       for (int n = 0; n < k; ++n) {
-        Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-        int count = 0;
-        for (int nb : neighbours_[static_cast<size_t>(n)])
-          if (nb >= 0) {
-            sum += mid_vectors_mm_.col(nb);
-            ++count;
-          }
-        if (count > 0) smoothed.col(n) = 0.5 * mid_vectors_mm_.col(n) + 0.5 * sum / count;
+        const Eigen::Vector3d axis = axes.axes.col(n), mid = rest_nodes_mm_.col(n) + mid_vectors_mm.col(n);
+        const double h = axes.half_chords_mm[n];
+        const double on_bone = calcOnBoneWeight(rest_clearance->calcValue(mid - h * axis), h);
+        const double on_bone_far = calcOnBoneWeight(rest_clearance->calcValue(mid + h * axis), h);
+        anchor_vectors_mm_.col(n) += h * (on_bone_far - on_bone) * axis;
       }
-      mid_vectors_mm_.swap(smoothed);
-    }
+    smooth(mid_vectors_mm, settings_.smoothing_passes);
+    smooth(anchor_vectors_mm_, settings_.smoothing_passes);
     // k = −div v: 1 where the mid-set is a surface (v = −o n), 2 where it is a line.
     thin_directions_.resize(k);
     for (int n = 0; n < k; ++n)
-      thin_directions_[n] = std::clamp(-differentiate(mid_vectors_mm_, n).trace(), 1.0, 2.0);
+      thin_directions_[n] = std::clamp(-differentiate(mid_vectors_mm, n).trace(), 1.0, 2.0);
   }
   update(std::vector<Eigen::Isometry3d>(static_cast<size_t>(num_bones_), Eigen::Isometry3d::Identity()));
+}
+
+void TissueLattice::smooth(Eigen::Matrix3Xd& vectors, int passes) const {
+  for (int pass = 0; pass < passes; ++pass) {
+    Eigen::Matrix3Xd smoothed = vectors;
+    for (Eigen::Index n = 0; n < vectors.cols(); ++n) {
+      Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+      int count = 0;
+      for (int nb : neighbours_[static_cast<size_t>(n)])
+        if (nb >= 0) {
+          sum += vectors.col(nb);
+          ++count;
+        }
+      if (count > 0) smoothed.col(n) = 0.5 * vectors.col(n) + 0.5 * sum / count;
+    }
+    vectors.swap(smoothed);
+  }
 }
 
 int TissueLattice::findNode(const Eigen::Vector3i& ijk) const {
@@ -148,7 +170,7 @@ void TissueLattice::update(const std::vector<Eigen::Isometry3d>& bone_motion_M) 
   for (int n = 0; n < k; ++n) blended_mm_.col(n) = applyBlend(node_weights_.col(n).data(), transforms_, rest_nodes_mm_.col(n));
   blend_volume_changes_.resize(k);
   nodes_mm_ = blended_mm_;
-  const bool thin = mid_vectors_mm_.cols() == k;
+  const bool thin = anchor_vectors_mm_.cols() == k;
   for (int n = 0; n < k; ++n) {
     const Eigen::Matrix3d d = differentiate(blended_mm_, n);
     const double j = d.determinant();
@@ -157,7 +179,7 @@ void TissueLattice::update(const std::vector<Eigen::Isometry3d>& bone_motion_M) 
     const double t = j > 0.0 ? std::clamp(std::pow(j, -1.0 / thin_directions_[n]), 1.0 / settings_.max_thinning,
                                           settings_.max_thinning)
                              : settings_.max_thinning;  // a fold thickens as much as allowed
-    nodes_mm_.col(n) -= (t - 1.0) * (d * mid_vectors_mm_.col(n));
+    nodes_mm_.col(n) -= (t - 1.0) * (d * anchor_vectors_mm_.col(n));
   }
 }
 

@@ -9,11 +9,14 @@
 ///    or, given the joint's centre, angles about it).
 /// 2. Incompressibility: Φ stretches the tissue between bones turning apart without thinning
 ///    it (a flexed gluteus maximus grew by 40 %), and lowering the field to restore the volume
-///    breaks thin parts first. So each node moves towards the muscle's rest mid-surface (or
-///    mid-line) by the factor t = J^(−1/k): J = det DΦ (differences of neighbouring nodes) and
-///    k the number of directions in which the mid-set is thin (1 for a sheet, 2 for a spindle,
-///    from the divergence of the rest mid-surface vectors v = m − x, thickness_axes.h):
-///      y = Φ(x) − (t − 1) DΦ v.
+///    breaks thin parts first. So each node scales about its anchor by the factor t = J^(−1/k):
+///    J = det DΦ (differences of neighbouring nodes) and k the number of directions in which
+///    the mid-set is thin (1 for a sheet, 2 for a spindle, from the divergence of the rest
+///    mid-surface vectors v = m − x, thickness_axes.h). The anchor is the mid-surface point m,
+///    moved along the chord towards each of its ends that lies on a bone at rest
+///    (calcOnBoneWeight), so that tissue on a bone thickens and thins away from it; with
+///    a = anchor − x at rest,
+///      y = Φ(x) − (t − 1) DΦ a.
 ///    A sheet then scales across its thickness by 1/J, a spindle across its section by 1/√J.
 /// 3. Everything else the map carries (kernel centres and frames, fibre points, surface
 ///    vertices) is bound at rest to its lattice cell and moves by trilinear interpolation of
@@ -55,6 +58,10 @@ struct LatticeSettings {
   std::optional<Eigen::Vector3d> joint_centre_mm;
 };
 
+/// How much a muscle surface point with rest bone clearance s (mm) lies on the bone, for a
+/// chord of half-thickness h (mm): 1 at s ≤ 0, 0 at s ≥ h (or s = +∞), smoothstep between.
+double calcOnBoneWeight(double clearance_mm, double half_thickness_mm);
+
 /// The carrying map (file comment). Rest set-up is expensive; update() and carry() are cheap.
 class TissueLattice {
  public:
@@ -62,12 +69,16 @@ class TissueLattice {
   /// @param origin_mm a lattice node (M, rest); @param cell_mm spacing h > 0
   /// @param cover_mm every point to be bound later must lie in a cell of these points' cells
   ///   or their neighbours (3×P: kernel centres, quadrature nodes, fibre points, surface vertices)
-  /// @param mid_vectors_mm rest mid-surface vectors v at `cover_mm` points' cell corners are
-  ///   found from `muscle_surface` (the rest muscle mesh in M); null: no incompressibility
+  /// @param muscle_surface the rest muscle mesh (M), whose chords give the nodes' thickness
+  ///   axes and mid-surface (thickness_axes.h); null: no incompressibility
+  /// @param rest_clearance the bones' signed distance s at rest (M, mm; +∞ far from them):
+  ///   the tissue scales away from a side of its chord that lies on a bone (calcOnBoneWeight);
+  ///   null: about the mid-surface everywhere
   /// @throws std::invalid_argument for bad settings, sizes or non-finite input.
   TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Attachments& attachments,
                 const Eigen::Vector3d& origin_mm, double cell_mm, const Eigen::Matrix3Xd& cover_mm,
-                const class MeshDistance* muscle_surface, const LatticeSettings& settings = {});
+                const class MeshDistance* muscle_surface, const class ImplicitField* rest_clearance = nullptr,
+                const LatticeSettings& settings = {});
 
   /// Binds rest points (3×P, M) to their cells; a point with rigid_bone[j] ≥ 0 moves with
   /// that bone instead. @throws std::invalid_argument if a point lies outside the covered cells.
@@ -107,6 +118,8 @@ class TissueLattice {
   /// Differences of `positions` at node n along the lattice axes (central where both
   /// neighbours are active, else one-sided, else the rest axis).
   Eigen::Matrix3d differentiate(const Eigen::Matrix3Xd& positions, int n) const;
+  /// `passes` Laplacian passes over per-node vectors (each node halfway to its neighbours' mean).
+  void smooth(Eigen::Matrix3Xd& vectors, int passes) const;
 
   int num_bones_ = 0;
   LatticeSettings settings_;
@@ -117,7 +130,7 @@ class TissueLattice {
   std::vector<std::array<int, 6>> neighbours_;  ///< −x, +x, −y, +y, −z, +z active indices (−1 absent)
   Eigen::Matrix3Xd rest_nodes_mm_;
   Eigen::MatrixXd node_weights_;          ///< B×K blend weights
-  Eigen::Matrix3Xd mid_vectors_mm_;       ///< v per node (empty: no incompressibility)
+  Eigen::Matrix3Xd anchor_vectors_mm_;    ///< a per node (empty: no incompressibility)
   Eigen::VectorXd thin_directions_;       ///< k per node, in [1, 2]
   std::vector<Eigen::Isometry3d> motions_;
   std::vector<DualQuaternion> transforms_;

@@ -83,7 +83,8 @@ MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const Pipelin
   cover << fit.getCentres(), quadrature.points_mm, fibres.points_mm, rest_surface.vertices_mm;
   const MeshDistance muscle_surface(definition.rest_mesh_M, false);  // closest points only: sides by winding number
   lattice_ = std::make_shared<TissueLattice>(fit.getCentres(), definition.attachments, quadrature.box_mm.min(),
-                                             quadrature.cell_mm, cover, &muscle_surface, settings.lattice);
+                                             quadrature.cell_mm, cover, &muscle_surface, state_->bones,
+                                             settings.lattice);
 
   NeighbourLists quadrature_lists = findMaterialNeighbours(rest, quadrature.points_mm);
   stages_.resize(kSlots);

@@ -5,22 +5,19 @@
 /// inside the femur, the ilium or the sacrum (exact distance to the posed meshes), and every
 /// fibre end within 0.5 mm of its place on its bone, and its hip flexion moment arm of the
 /// published sign (the gluteus extends the hip, the iliacus and the psoas flex it); for the
-/// gluteus and the iliacus also every fibre point inside, and in flexion, adduction and gait the gluteus's tracked surface in one
-/// piece (also the iliacus's in gait). Where a muscle lies on a bone its tracked vertices find no
-/// surface and their triangles are dropped, which cuts the tracked mesh of the iliacus and the
-/// psoas in flexion and of the gluteus in two frames of the rotation; the pieces are printed.
-/// The gluteus also flexes to 120°, with the same checks but the jump and the pieces: beyond
-/// 97° it lies on the femur and its tracked surface falls in 2–4 pieces (disabled test). In the main job (flexion 0→80° in 1°
-/// frames) also: the gluteus's fibres lengthen and the iliacus's shorten at every frame, and no
-/// vertex of the gluteus's or the psoas's tracked surface is further from the previous frame's
-/// surface (its tracked mesh, or the vertex's own last place where that mesh lost triangles)
-/// than the femur moves there plus 1 mm. What does not hold yet is measured and printed here and
-/// asserted in the disabled tests below, named for what fails: at 80° the iliacus jumps by
-/// 0.03 mm more than that, where the bones' blend squeezes it to 5 % of its volume and its two
-/// sides meet, and the psoas leaves up to about 50 fibre points outside where it crosses the
-/// pelvic brim, its fibres not shortening, and its flexion moment arm turns negative from about
-/// 45° of flexion. Blended by angle about the hip (blend = joint_angle), the psoas shortens at
-/// every frame with a flexion moment arm and does not jump (its own test).
+/// gluteus and the iliacus also every fibre point inside, and in flexion, adduction and gait the
+/// gluteus's tracked surface in one piece (also the iliacus's in gait). Where a muscle lies on a
+/// bone its tracked vertices find no surface and their triangles are dropped, which cuts the
+/// tracked mesh of the iliacus and the psoas in flexion; the pieces are printed. The gluteus
+/// also flexes to 120°, with the same checks but the jump. In the main job (flexion 0→80° in 1°
+/// frames) also: the gluteus's fibres lengthen and the iliacus's and the psoas's shorten at every
+/// frame, the psoas to at most 0.93 of its rest length, and no vertex of the gluteus's or the
+/// psoas's tracked surface is further from the previous frame's surface (its tracked mesh, or
+/// the vertex's own last place where that mesh lost triangles) than the femur moves there plus
+/// 1 mm. What does not hold yet is measured and printed here and asserted in the disabled tests
+/// below, named for what fails: the iliacus jumps by up to 0.7 mm more than that where it lies
+/// between the femoral head and the acetabular rim, the psoas leaves up to 31 of its 1600 fibre
+/// points outside where it crosses the pelvic brim, and the gluteus flexed to 112° jumps by 4 mm.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -200,6 +197,7 @@ class SurfaceWatch {
       // even where the tracked mesh there lost its triangles beside a contact patch.
       const double jump = std::min(previous_->calcUnsignedDistance(y), (y - previous_vertices_.col(v)).norm()) - allowance;
       if (jump > worst_jump) worst_jump = jump, worst_jump_frame = row;
+      if (jump > 0.0 && first_jump_frame < 0) first_jump_frame = row;
     }
     TriangleMesh surface;
     surface.vertices_mm = g.vertices_mm;
@@ -211,7 +209,7 @@ class SurfaceWatch {
   }
 
   double worst_depth = 0.0, worst_jump = -1e9;
-  int worst_depth_frame = 0, worst_jump_frame = 0, most_pieces = 0;
+  int worst_depth_frame = 0, worst_jump_frame = 0, first_jump_frame = -1, most_pieces = 0;
 
  private:
   const SceneBones& bones_;
@@ -253,10 +251,10 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
     }
     const int ratio = table.findColumn(muscle + ".fibre_length_ratio");
     std::printf("%s %s: deepest tracked vertex in a bone %.3f mm (frame %d); worst jump beyond the femur's move + 1 mm "
-                "%.3f mm (frame %d); fibre length ratio at the last frame %.3f; most fibre points outside %.0f; most pieces of "
+                "%.3f mm (frame %d, first at %d); fibre length ratio at the last frame %.3f; most fibre points outside %.0f; most pieces of "
                 "the tracked surface %d\n",
                 scene.c_str(), muscle.c_str(), watch.worst_depth, watch.worst_depth_frame, watch.worst_jump,
-                watch.worst_jump_frame, ratio >= 0 ? table.rows.back()[static_cast<size_t>(ratio)] : NAN,
+                watch.worst_jump_frame, watch.first_jump_frame, ratio >= 0 ? table.rows.back()[static_cast<size_t>(ratio)] : NAN,
                 most_outside, watch.most_pieces);
     EXPECT_LE(watch.worst_depth, 0.5) << muscle << " at frame " << watch.worst_depth_frame;
     if (checks.last_ratio_at_most.count(muscle)) {
@@ -270,12 +268,12 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
   fs::remove_all(out);
 }
 
-TEST(HipScenes, FlexionKeepsVolumeAndTheMusclesOutOfTheBonesGluteusLengthensIliacusShortensGluteusAndPsoasDoNotJump) {
+TEST(HipScenes, FlexionKeepsVolumeAndTheMusclesOutOfTheBonesTheirFibresChangeLengthEveryFrameAsTheirArmsSay) {
   SceneChecks checks;
-  checks.flexion_sign = {"glmax_r", "iliacus_r"};
-  checks.fibres_monotone = {"glmax_r", "iliacus_r"};
+  checks.fibres_monotone = kMuscles;
   checks.jump_checked = {"glmax_r", "psoas_r"};
   checks.one_piece = {"glmax_r"};
+  checks.last_ratio_at_most = {{"psoas_r", 0.93}};
   checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
 }
 
@@ -312,7 +310,7 @@ TEST(HipScenes, GluteusFlexedTo120DegreesKeepsVolumeFibresInsideAndOutOfTheBones
   checkScene("hip_flexion", writeFlexionTo120(), checks);
 }
 
-TEST(HipScenes, DISABLED_GluteusBeyond97DegreesLosesTrianglesOnTheFemurIn2To4PiecesAndJumps0point5mm) {
+TEST(HipScenes, DISABLED_GluteusAt112DegreesJumps4mmBeyondTheFemursMove) {
   SceneChecks checks;
   checks.muscles = {"glmax_r"};
   checks.jump_checked = {"glmax_r"};
@@ -320,35 +318,17 @@ TEST(HipScenes, DISABLED_GluteusBeyond97DegreesLosesTrianglesOnTheFemurIn2To4Pie
   checkScene("hip_flexion", writeFlexionTo120(), checks);
 }
 
-TEST(HipScenes, DISABLED_FlexionIliacusJumps0point03mmBeyondTheFemursMoveAt80DegreesWhereTheBlendSqueezesItFlat) {
+TEST(HipScenes, DISABLED_FlexionIliacusJumps0point7mmBeyondTheFemursMoveWhereTheFemoralHeadPinchesIt) {
   SceneChecks checks;
   checks.muscles = {"iliacus_r"};
   checks.jump_checked = {"iliacus_r"};
   checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
 }
 
-// Blended by angle about the hip instead (the blend option), the psoas takes the femur's turn
-// where it passes the joint, not above the pelvic brim: it shortens to 0.91 at 80° (0.989 by
-// distance; the MyoLeg path 0.82) with a flexion moment arm at every frame. Some fibre points
-// stay outside at the brim (at most 33 of 1600 at a frame).
-TEST(HipScenes, FlexionPsoasBlendedByAngleAboutTheHipShortensEveryFrameWithAFlexionArmAndDoesNotJump) {
+TEST(HipScenes, DISABLED_FlexionPsoasLeavesUpTo31FibrePointsOf1600OutsideAtThePelvicBrim) {
   SceneChecks checks;
   checks.muscles = {"psoas_r"};
-  checks.flexion_sign = {"psoas_r"};
-  checks.fibres_inside = {};
-  checks.fibres_monotone = {"psoas_r"};
-  checks.jump_checked = {"psoas_r"};
-  checks.last_ratio_at_most = {{"psoas_r", 0.93}};
-  checks.overrides = " --set psoas_r.blend=joint_angle";
-  checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
-}
-
-TEST(HipScenes,
-     DISABLED_FlexionPsoasLeavesFibrePointsOutsideAtThePelvicBrimItsFibresDoNotShortenAndItsFlexionArmTurnsNegative) {
-  SceneChecks checks;
-  checks.flexion_sign = {"psoas_r"};
   checks.fibres_inside = {"psoas_r"};
-  checks.fibres_monotone = {"psoas_r"};
   checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
 }
 

@@ -73,6 +73,7 @@ TEST(RBFMusclePlugin, GluteusFollowsFlexionWithVolumeKept) {
   const fs::path dir = testDir("flexion");
   const HostResult r = runModel(writeModel(dir, kCachedGluteus), dir / "out", "flexion");
   ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("glmax_r: blend by angle about the joint centre"), std::string::npos) << "the default\n" << r.err;
   const StorageTable table = readStorage((dir / "out/outputs.sto").string());
   ASSERT_EQ(table.rows.size(), 9u);  // 0°, 10°, …, 80°
   for (const char* column : {"glmax_r.volume_mm3", "glmax_r.volume_ratio", "glmax_r.curvature_cost",
@@ -207,6 +208,25 @@ TEST(RBFMusclePlugin, AViaPointOnABodyTheSkeletonLacksIsRefusedNamingIt) {
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("line_of_action: via point 2: no body 'femur' in the skeleton"), std::string::npos) << r.err;
   EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+// Weights by distance stay a choice for joints without a centre.
+TEST(RBFMusclePlugin, GluteusBlendedByDistanceKeepsVolumeFibresInsideAndLengthens) {
+  const fs::path dir = testDir("blend_distance");
+  const HostResult r = runGluteusWith(dir, "--set glmax_r.blend=distance", "blend_distance");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_EQ(r.err.find("blend by angle"), std::string::npos) << r.err;
+  const StorageTable table = readStorage((dir / "out/outputs.sto").string());
+  ASSERT_EQ(table.rows.size(), 9u);
+  const int ratio = table.findColumn("glmax_r.volume_ratio"), outside = table.findColumn("glmax_r.fibre_points_outside");
+  const int fibre = table.findColumn("glmax_r.fibre_length_ratio");
+  for (size_t i = 0; i < table.rows.size(); ++i) {
+    EXPECT_NEAR(table.rows[i][ratio], 1.0, 1e-3) << "row " << i;
+    EXPECT_EQ(table.rows[i][outside], 0.0) << "row " << i;
+    if (i > 0) {
+      EXPECT_GT(table.rows[i][fibre], table.rows[i - 1][fibre]) << "row " << i;
+    }
+  }
 }
 
 TEST(RBFMusclePlugin, AnUnknownBlendIsRefusedNamingTheOnesThereAre) {

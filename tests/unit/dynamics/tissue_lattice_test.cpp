@@ -4,9 +4,12 @@
 #include "dynamics/tissue_lattice.h"
 #include "dynamics_test_shapes.h"
 #include "geometry/mesh_distance.h"
+#include "rbf/implicit_field.h"
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
+
+#include <limits>
 
 namespace rbfmuscle {
 namespace {
@@ -18,7 +21,14 @@ struct Rod {
   TriangleMesh mesh = test::makeBox(Eigen::Vector3d(-38, -8, -6), Eigen::Vector3d(38, 8, 6));
 };
 
-TissueLattice makeLattice(const Rod& rod, bool incompressible, const LatticeSettings& base = {}) {
+/// A flat bone under the rod: s(p) = p_z + 6 mm, zero on the rod's lower face.
+struct FloorBelowTheRod final : ImplicitField {
+  double calcValue(const Eigen::Vector3d& p_mm) const override { return p_mm.z() + 6.0; }
+  Eigen::Vector3d calcGradient(const Eigen::Vector3d&) const override { return Eigen::Vector3d::UnitZ(); }
+};
+
+TissueLattice makeLattice(const Rod& rod, bool incompressible, const LatticeSettings& base = {},
+                          const ImplicitField* rest_clearance = nullptr) {
   LatticeSettings settings = base;
   settings.incompressible = incompressible;
   const MeshDistance surface(rod.mesh);
@@ -28,7 +38,8 @@ TissueLattice makeLattice(const Rod& rod, bool incompressible, const LatticeSett
       for (double z = -8; z <= 8; z += 2) grid.emplace_back(x, y, z);
   Eigen::Matrix3Xd cover(3, static_cast<Eigen::Index>(grid.size()));
   for (size_t i = 0; i < grid.size(); ++i) cover.col(static_cast<Eigen::Index>(i)) = grid[i];
-  return TissueLattice(rod.field.getCentres(), rod.attachments, Eigen::Vector3d::Zero(), 2.0, cover, &surface, settings);
+  return TissueLattice(rod.field.getCentres(), rod.attachments, Eigen::Vector3d::Zero(), 2.0, cover, &surface, rest_clearance,
+                       settings);
 }
 
 TEST(TissueLattice, ACommonRigidMotionMovesEveryPointAndFrameRigidly) {
@@ -107,6 +118,42 @@ TEST(TissueLattice, AStretchedRodThinsAcrossItsThicknessAndKeepsItsVolume) {
   ASSERT_GE(side, 0);
   EXPECT_LT(std::abs(thinned.getNodes()(1, side) - thinned.getNodes()(1, middle)),
             std::abs(blend_only.getNodes()(1, side) - blend_only.getNodes()(1, middle)) + 1e-9);
+}
+
+// The insertion pushed 16 mm towards the origin compresses the rod, which thickens to keep
+// its volume. Lying on a floor, it thickens away from the floor: its lower face stays on it
+// (about its mid-surface, the lower face would sink into the floor by half the thickening).
+TEST(TissueLattice, ACompressedRodLyingOnABoneThickensAwayFromTheBone) {
+  const Rod rod;
+  const FloorBelowTheRod floor;
+  const Eigen::Isometry3d push(Eigen::Translation3d(-16, 0, 0));
+  TissueLattice free_rod = makeLattice(rod, true), rod_on_floor = makeLattice(rod, true, {}, &floor);
+  free_rod.update({Eigen::Isometry3d::Identity(), push});
+  rod_on_floor.update({Eigen::Isometry3d::Identity(), push});
+  const int lower = rod_on_floor.findNodeAt(Eigen::Vector3d(0, 0, -6)), upper = rod_on_floor.findNodeAt(Eigen::Vector3d(0, 0, 6));
+  ASSERT_GE(lower, 0);
+  ASSERT_GE(upper, 0);
+  const double thickening_mm = free_rod.getNodes()(2, upper) - free_rod.getNodes()(2, lower) - 12.0;
+  ASSERT_GT(thickening_mm, 1.0) << "the blend compresses the middle and the rod thickens";
+  EXPECT_LT(free_rod.getNodes()(2, lower), -6.0 - 0.4 * thickening_mm) << "about the mid-surface: into the floor";
+  EXPECT_NEAR(rod_on_floor.getNodes()(2, lower), -6.0, 0.05 * thickening_mm) << "on the floor: stays on it";
+  EXPECT_NEAR(rod_on_floor.getNodes()(2, upper) - rod_on_floor.getNodes()(2, lower), 12.0 + thickening_mm,
+              0.05 * thickening_mm) << "and thickens as much";
+  Eigen::VectorXd j_free, j_on_floor;
+  free_rod.calcVolumeChanges(j_free);
+  rod_on_floor.calcVolumeChanges(j_on_floor);
+  const int middle = rod_on_floor.findNodeAt(Eigen::Vector3d::Zero());
+  EXPECT_NEAR(j_on_floor[middle], j_free[middle], 0.02) << "the anchor does not change the volume";
+}
+
+TEST(TissueLattice, ASurfaceLiesOnABoneByItsClearanceAgainstTheHalfThickness) {
+  EXPECT_EQ(calcOnBoneWeight(-1.0, 5.0), 1.0);
+  EXPECT_EQ(calcOnBoneWeight(0.0, 5.0), 1.0);
+  EXPECT_DOUBLE_EQ(calcOnBoneWeight(2.5, 5.0), 0.5);
+  EXPECT_EQ(calcOnBoneWeight(5.0, 5.0), 0.0);
+  EXPECT_EQ(calcOnBoneWeight(std::numeric_limits<double>::infinity(), 5.0), 0.0);
+  EXPECT_EQ(calcOnBoneWeight(1.0, 0.0), 0.0) << "no thickness, nothing to anchor";
+  EXPECT_GT(calcOnBoneWeight(1.0, 5.0), calcOnBoneWeight(2.0, 5.0));
 }
 
 // The rod arches over a joint 30 mm below its middle, and its insertion bone turns about the
