@@ -38,10 +38,10 @@ fs::path testDir(const std::string& name) {
 
 /// Writes a one-muscle gluteus model into `dir` and returns its path.
 fs::path writeModel(const fs::path& dir, const std::string& surface_file, const std::string& origin = kOrigin,
-                    const std::string& motion = "hip_flexion_0_80_step10.mot") {
+                    const std::string& motion = "hip_flexion_0_80_step10.mot", const fs::path& skeleton = kHip / "hip_r.urdf") {
   const fs::path path = dir / "model.xml";
   std::ofstream(path) << "<?xml version=\"1.0\"?>\n<RBFMuscleModel version=\"1\" name=\"glmax_test\">\n"
-                      << "  <skeleton file=\"" << (kHip / "hip_r.urdf").string() << "\"/>\n"
+                      << "  <skeleton file=\"" << skeleton.string() << "\"/>\n"
                       << "  <plugin file=\"librbfmuscle_plugin.so\"/>\n"
                       << "  <motion file=\"" << (kHip / "motions" / motion).string() << "\"/>\n"
                       << "  <components>\n    <RBFMuscle name=\"glmax_r\">\n"
@@ -227,6 +227,29 @@ TEST(RBFMusclePlugin, GluteusBlendedByDistanceKeepsVolumeFibresInsideAndLengthen
       EXPECT_GT(table.rows[i][fibre], table.rows[i - 1][fibre]) << "row " << i;
     }
   }
+}
+
+// The default blend turns the tissue about the joint's centre; bones joined by no turning
+// coordinate have none, and the error names the blend that works there.
+TEST(RBFMusclePlugin, BonesThatCannotTurnAreRefusedByTheDefaultBlendNamingTheDistanceBlend) {
+  const fs::path dir = testDir("fixed_joint");
+  std::ifstream in(kHip / "hip_r.urdf");
+  std::string urdf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto replace_all = [&urdf](const std::string& from, const std::string& to) {
+    for (size_t at = urdf.find(from); at != std::string::npos; at = urdf.find(from, at + to.size()))
+      urdf.replace(at, from.size(), to);
+  };
+  replace_all("type=\"revolute\"", "type=\"fixed\"");
+  replace_all("filename=\"meshes/", "filename=\"" + (kHip / "meshes").string() + "/");
+  std::ofstream(dir / "fixed.urdf") << urdf;
+  std::ofstream(dir / "still.mot") << "still\nversion=1\nnRows=2\nnColumns=1\ninDegrees=yes\nendheader\ntime\n0\n1\n";
+  const fs::path model = writeModel(dir, kCachedGluteus, kOrigin, (dir / "still.mot").string(), dir / "fixed.urdf");
+  const HostResult r = runModel(model, dir / "out", "fixed_joint");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("blend 'joint_angle': no rotational coordinate turns femur_r relative to pelvis; use 'distance'"),
+            std::string::npos)
+      << r.err;
+  EXPECT_FALSE(fs::exists(dir / "out"));
 }
 
 TEST(RBFMusclePlugin, AnUnknownBlendIsRefusedNamingTheOnesThereAre) {
