@@ -52,7 +52,7 @@ struct LatticeSettings {
   double blend_power = 2.0;      ///< p of the blend weights (attachment.h, calcBlendWeights), > 0
   bool incompressible = true;    ///< step 2 of the file comment (false: the blend alone)
   double max_thinning = 4.0;     ///< t is clamped to [1/max, max], ≥ 1
-  int smoothing_passes = 3;      ///< Laplacian passes over the rest mid-surface vectors, ≥ 0
+  int smoothing_passes = 3;      ///< Laplacian passes over the rest mid-surface and anchor vectors, ≥ 0
   /// The centre of the joint between the two bones (M, mm): blend weights by angle about it
   /// (calcJointAngleBlendWeights); none: by distance (calcBlendWeights, blend_length_mm, blend_power).
   std::optional<Eigen::Vector3d> joint_centre_mm;
