@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <limits>
 
 namespace rbfmuscle {
@@ -25,6 +26,14 @@ struct Rod {
 struct FloorBelowTheRod final : ImplicitField {
   double calcValue(const Eigen::Vector3d& p_mm) const override { return p_mm.z() + 6.0; }
   Eigen::Vector3d calcGradient(const Eigen::Vector3d&) const override { return Eigen::Vector3d::UnitZ(); }
+};
+
+/// Flat bones above and below the rod: s(p) = min(p_z + 6, 6 − p_z) mm, zero on both faces.
+struct FloorAndCeilingAroundTheRod final : ImplicitField {
+  double calcValue(const Eigen::Vector3d& p_mm) const override { return std::min(p_mm.z() + 6.0, 6.0 - p_mm.z()); }
+  Eigen::Vector3d calcGradient(const Eigen::Vector3d& p_mm) const override {
+    return p_mm.z() < 0.0 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d(-Eigen::Vector3d::UnitZ());
+  }
 };
 
 TissueLattice makeLattice(const Rod& rod, bool incompressible, const LatticeSettings& base = {},
@@ -144,6 +153,24 @@ TEST(TissueLattice, ACompressedRodLyingOnABoneThickensAwayFromTheBone) {
   rod_on_floor.calcVolumeChanges(j_on_floor);
   const int middle = rod_on_floor.findNodeAt(Eigen::Vector3d::Zero());
   EXPECT_NEAR(j_on_floor[middle], j_free[middle], 0.02) << "the anchor does not change the volume";
+}
+
+// Pinched between two bones, the rod has no free side: it thickens about its middle, as a free
+// rod does.
+TEST(TissueLattice, ACompressedRodBetweenTwoBonesThickensAboutItsMiddle) {
+  const Rod rod;
+  const FloorAndCeilingAroundTheRod bones;
+  const Eigen::Isometry3d push(Eigen::Translation3d(-16, 0, 0));
+  TissueLattice free_rod = makeLattice(rod, true), pinched = makeLattice(rod, true, {}, &bones);
+  free_rod.update({Eigen::Isometry3d::Identity(), push});
+  pinched.update({Eigen::Isometry3d::Identity(), push});
+  const int lower = pinched.findNodeAt(Eigen::Vector3d(0, 0, -6)), upper = pinched.findNodeAt(Eigen::Vector3d(0, 0, 6));
+  ASSERT_GE(lower, 0);
+  ASSERT_GE(upper, 0);
+  const double thickening_mm = free_rod.getNodes()(2, upper) - free_rod.getNodes()(2, lower) - 12.0;
+  ASSERT_GT(thickening_mm, 1.0);
+  EXPECT_NEAR(pinched.getNodes()(2, lower), free_rod.getNodes()(2, lower), 0.05 * thickening_mm);
+  EXPECT_NEAR(pinched.getNodes()(2, upper), free_rod.getNodes()(2, upper), 0.05 * thickening_mm);
 }
 
 TEST(TissueLattice, ASurfaceLiesOnABoneByItsClearanceAgainstTheHalfThickness) {
