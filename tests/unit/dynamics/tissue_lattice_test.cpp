@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <limits>
 
 namespace rbfmuscle {
@@ -129,48 +130,52 @@ TEST(TissueLattice, AStretchedRodThinsAcrossItsThicknessAndKeepsItsVolume) {
             std::abs(blend_only.getNodes()(1, side) - blend_only.getNodes()(1, middle)) + 1e-9);
 }
 
-// The insertion pushed 16 mm towards the origin compresses the rod, which thickens to keep
-// its volume. Lying on a floor, it thickens away from the floor: its lower face stays on it
-// (about its mid-surface, the lower face would sink into the floor by half the thickening).
-TEST(TissueLattice, ACompressedRodLyingOnABoneThickensAwayFromTheBone) {
+/// The rod compressed by its insertion pushed 16 mm towards its origin, free and with bones at
+/// rest `bones`: the heights (mm) of the middle of its lower and upper faces, and its volume
+/// change at the middle.
+struct CompressedRod {
+  double lower_mm, upper_mm, volume_change;
+};
+
+std::array<CompressedRod, 2> compressRodFreeAndWith(const ImplicitField& bones) {
   const Rod rod;
-  const FloorBelowTheRod floor;
-  const Eigen::Isometry3d push(Eigen::Translation3d(-16, 0, 0));
-  TissueLattice free_rod = makeLattice(rod, true), rod_on_floor = makeLattice(rod, true, {}, &floor);
-  free_rod.update({Eigen::Isometry3d::Identity(), push});
-  rod_on_floor.update({Eigen::Isometry3d::Identity(), push});
-  const int lower = rod_on_floor.findNodeAt(Eigen::Vector3d(0, 0, -6)), upper = rod_on_floor.findNodeAt(Eigen::Vector3d(0, 0, 6));
-  ASSERT_GE(lower, 0);
-  ASSERT_GE(upper, 0);
-  const double thickening_mm = free_rod.getNodes()(2, upper) - free_rod.getNodes()(2, lower) - 12.0;
+  std::array<CompressedRod, 2> result{};
+  for (int with_bones = 0; with_bones < 2; ++with_bones) {
+    TissueLattice lattice = makeLattice(rod, true, {}, with_bones ? &bones : nullptr);
+    lattice.update({Eigen::Isometry3d::Identity(), Eigen::Isometry3d(Eigen::Translation3d(-16, 0, 0))});
+    const int lower = lattice.findNodeAt(Eigen::Vector3d(0, 0, -6)), upper = lattice.findNodeAt(Eigen::Vector3d(0, 0, 6));
+    const int middle = lattice.findNodeAt(Eigen::Vector3d::Zero());
+    if (lower < 0 || upper < 0 || middle < 0) {
+      ADD_FAILURE() << "the faces' middles and the middle are lattice nodes";
+      return result;
+    }
+    Eigen::VectorXd volume;
+    lattice.calcVolumeChanges(volume);
+    result[static_cast<size_t>(with_bones)] = {lattice.getNodes()(2, lower), lattice.getNodes()(2, upper), volume[middle]};
+  }
+  return result;
+}
+
+// Compressed, the rod thickens to keep its volume. Lying on a floor, it thickens away from the
+// floor: its lower face stays on it (about its mid-surface, it would sink by half the thickening).
+TEST(TissueLattice, ACompressedRodLyingOnABoneThickensAwayFromTheBone) {
+  const auto [free_rod, on_floor] = compressRodFreeAndWith(FloorBelowTheRod{});
+  const double thickening_mm = free_rod.upper_mm - free_rod.lower_mm - 12.0;
   ASSERT_GT(thickening_mm, 1.0) << "the blend compresses the middle and the rod thickens";
-  EXPECT_LT(free_rod.getNodes()(2, lower), -6.0 - 0.4 * thickening_mm) << "about the mid-surface: into the floor";
-  EXPECT_NEAR(rod_on_floor.getNodes()(2, lower), -6.0, 0.05 * thickening_mm) << "on the floor: stays on it";
-  EXPECT_NEAR(rod_on_floor.getNodes()(2, upper) - rod_on_floor.getNodes()(2, lower), 12.0 + thickening_mm,
-              0.05 * thickening_mm) << "and thickens as much";
-  Eigen::VectorXd j_free, j_on_floor;
-  free_rod.calcVolumeChanges(j_free);
-  rod_on_floor.calcVolumeChanges(j_on_floor);
-  const int middle = rod_on_floor.findNodeAt(Eigen::Vector3d::Zero());
-  EXPECT_NEAR(j_on_floor[middle], j_free[middle], 0.02) << "the anchor does not change the volume";
+  EXPECT_LT(free_rod.lower_mm, -6.0 - 0.4 * thickening_mm) << "about the mid-surface: into the floor";
+  EXPECT_NEAR(on_floor.lower_mm, -6.0, 0.05 * thickening_mm) << "on the floor: stays on it";
+  EXPECT_NEAR(on_floor.upper_mm - on_floor.lower_mm, 12.0 + thickening_mm, 0.05 * thickening_mm) << "and thickens as much";
+  EXPECT_NEAR(on_floor.volume_change, free_rod.volume_change, 0.02) << "the anchor does not change the volume";
 }
 
 // Pinched between two bones, the rod has no free side: it thickens about its middle, as a free
 // rod does.
 TEST(TissueLattice, ACompressedRodBetweenTwoBonesThickensAboutItsMiddle) {
-  const Rod rod;
-  const FloorAndCeilingAroundTheRod bones;
-  const Eigen::Isometry3d push(Eigen::Translation3d(-16, 0, 0));
-  TissueLattice free_rod = makeLattice(rod, true), pinched = makeLattice(rod, true, {}, &bones);
-  free_rod.update({Eigen::Isometry3d::Identity(), push});
-  pinched.update({Eigen::Isometry3d::Identity(), push});
-  const int lower = pinched.findNodeAt(Eigen::Vector3d(0, 0, -6)), upper = pinched.findNodeAt(Eigen::Vector3d(0, 0, 6));
-  ASSERT_GE(lower, 0);
-  ASSERT_GE(upper, 0);
-  const double thickening_mm = free_rod.getNodes()(2, upper) - free_rod.getNodes()(2, lower) - 12.0;
+  const auto [free_rod, pinched] = compressRodFreeAndWith(FloorAndCeilingAroundTheRod{});
+  const double thickening_mm = free_rod.upper_mm - free_rod.lower_mm - 12.0;
   ASSERT_GT(thickening_mm, 1.0);
-  EXPECT_NEAR(pinched.getNodes()(2, lower), free_rod.getNodes()(2, lower), 0.05 * thickening_mm);
-  EXPECT_NEAR(pinched.getNodes()(2, upper), free_rod.getNodes()(2, upper), 0.05 * thickening_mm);
+  EXPECT_NEAR(pinched.lower_mm, free_rod.lower_mm, 0.05 * thickening_mm);
+  EXPECT_NEAR(pinched.upper_mm, free_rod.upper_mm, 0.05 * thickening_mm);
 }
 
 TEST(TissueLattice, ASurfaceLiesOnABoneByItsClearanceAgainstTheHalfThickness) {
