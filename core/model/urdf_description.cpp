@@ -237,6 +237,53 @@ void checkTree(const std::string& urdf_path, const urdf::ModelInterface& model) 
                                             "' (its joints form a loop apart from the tree, or it has no parent joint)"));
 }
 
+/// Refuses links that are their own ancestors through joints of one parent each, as urdfdom
+/// reads them (each <joint>'s first <parent> and <child>). urdfdom links such a loop by
+/// shared_ptr before it looks for the root, finds none, and drops the model with the loop still
+/// holding itself (a leak the fuzzer found); so the loop is refused before urdfdom reads the text.
+/// A link with several parent joints ends the search: checkTree names them.
+void checkNoLoopOfJoints(const std::string& urdf_path, const tinyxml2::XMLDocument& xml) {
+  const tinyxml2::XMLElement* robot = xml.FirstChildElement("robot");
+  if (!robot) return;  // urdfdom says what is missing
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> parents;  // link → (joint, parent link)
+  for (const tinyxml2::XMLElement* joint = robot->FirstChildElement("joint"); joint;
+       joint = joint->NextSiblingElement("joint")) {
+    const tinyxml2::XMLElement* parent = joint->FirstChildElement("parent");
+    const tinyxml2::XMLElement* child = joint->FirstChildElement("child");
+    const char* parent_link = parent ? parent->Attribute("link") : nullptr;
+    const char* child_link = child ? child->Attribute("link") : nullptr;
+    const char* name = joint->Attribute("name");
+    if (parent_link && child_link) parents[child_link].emplace_back(name ? name : "", parent_link);
+  }
+  std::map<std::string, int> walk_of;  // each link is walked through once, by the first walk that meets it
+  int walk = 0;
+  for (const auto& start : parents) {
+    ++walk;
+    std::vector<std::string> links, joints;
+    for (std::string link = start.first;;) {
+      const auto seen = walk_of.find(link);
+      if (seen != walk_of.end()) {
+        if (seen->second != walk) break;  // an earlier walk went on from here
+        const size_t first = static_cast<size_t>(std::find(links.begin(), links.end(), link) - links.begin());
+        std::string loop_joints, loop_links;
+        for (size_t i = first; i < joints.size(); ++i) {
+          loop_joints += (i > first ? ", '" : "'") + joints[i] + "'";
+          loop_links += "'" + links[i] + "' → ";
+        }
+        throw ModelError(where(urdf_path, "joints " + loop_joints + " form a closed loop of links (" + loop_links + "'" +
+                                              link + "'); the links must form a tree (a closed kinematic loop is not "
+                                              "supported)"));
+      }
+      walk_of[link] = walk;
+      const auto up = parents.find(link);
+      if (up == parents.end() || up->second.size() != 1) break;  // a root, or several parent joints
+      links.push_back(link);
+      joints.push_back(up->second[0].first);
+      link = up->second[0].second;
+    }
+  }
+}
+
 }  // namespace
 
 SkeletonDescription describeUrdf(const UrdfDescription& urdf) {
@@ -328,6 +375,7 @@ UrdfDescription parseUrdf(const std::string& text, const std::string& path) {
   if (xml.Parse(text.data(), text.size()) != tinyxml2::XML_SUCCESS)
     throw ModelError(where(path, "line " + std::to_string(xml.ErrorLineNum()) + ": not well-formed XML: " +
                                      xml.ErrorStr()));
+  checkNoLoopOfJoints(path, xml);
   urdf::ModelInterfaceSharedPtr model;
   std::string log;
   bool dropped = false;
@@ -341,24 +389,26 @@ UrdfDescription parseUrdf(const std::string& text, const std::string& path) {
     log = capture.text();
     dropped = capture.hasError();
   }
+  // urdfdom's links hold their children by shared_ptr, so links whose joints form a cycle (refused
+  // by checkTree, or met while urdfdom builds a tree it then reports) keep each other alive:
+  // unlink them whenever the model is dropped, whichever check refuses it.
+  struct BreakLinkCycles {
+    urdf::ModelInterfaceSharedPtr model;
+    ~BreakLinkCycles() {
+      if (!model) return;
+      for (auto& [name, link] : model->links_)
+        if (link) {
+          link->child_links.clear();
+          link->child_joints.clear();
+        }
+    }
+  } break_cycles{model};
   if (!model || !model->getRoot())
     throw ModelError(where(path, "urdfdom could not parse it" + (log.empty() ? "" : ": " + log)));
   // urdfdom reports an element it cannot read (an origin "nan 0 0" or "abc")
   // and returns the model without it, and without the link's other collision or visual elements:
   // a bone would silently leave the contacts.
   if (dropped) throw ModelError(where(path, "urdfdom left out what it could not read: " + log));
-  // urdfdom's links hold their children by shared_ptr, so links whose joints form a cycle (refused
-  // by checkTree) keep each other alive: unlink them whenever the model is dropped.
-  struct BreakLinkCycles {
-    urdf::ModelInterface& model;
-    ~BreakLinkCycles() {
-      for (auto& [name, link] : model.links_)
-        if (link) {
-          link->child_links.clear();
-          link->child_joints.clear();
-        }
-    }
-  } break_cycles{*model};
 
   checkTree(path, *model);
   UrdfDescription d;

@@ -320,6 +320,17 @@ TEST(SkeletonErrors, UrdfLoopApartFromTheRootIsRefusedNamingTheLink) {
   }
 }
 
+TEST(SkeletonErrors, UrdfWhoseLinksAllHangInALoopIsRefusedNamingTheJoints) {
+  // a → b → a and nothing else: urdfdom finds no root and drops a model whose links hold each
+  // other (a leak under the sanitizers); the loop is refused before urdfdom reads it.
+  TempFile f("loop_only.urdf");
+  f.write(std::string(R"(<robot name="loop"><link name="a"/><link name="b"/>
+    <joint name="j_a_b" type="revolute"><parent link="a"/><child link="b"/>)") + kRevoluteLimit + R"(</joint>
+    <joint name="j_b_a" type="revolute"><parent link="b"/><child link="a"/>)" + kRevoluteLimit + R"(</joint></robot>)");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); },
+                   {f.path(), "'j_a_b'", "'j_b_a'", "form a closed loop of links", "must form a tree"});
+}
+
 TEST(SkeletonErrors, UrdfMeshScaleOfZeroIsRefusedNamingTheLinkAndMesh) {
   TempFile f("scale_zero.urdf");
   f.write("<robot name=\"r\"><link name=\"bone\"><visual><geometry><mesh filename=\"" + kHipDir +
