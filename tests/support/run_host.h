@@ -25,6 +25,13 @@ inline std::string readText(const std::filesystem::path& path) {
   return s.str();
 }
 
+/// Replaces every `from` in `text` by `to`, left to right (a `to` that contains `from` is not
+/// replaced again).
+inline void replaceAll(std::string& text, const std::string& from, const std::string& to) {
+  for (size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+    text.replace(at, from.size(), to);
+}
+
 /// Runs `rbfmuscle ARGS` (with `environment`, e.g. "OMP_NUM_THREADS=1", set for it); logs go
 /// to BINARY_DIR/test_out/GROUP/NAME_log/{stdout,stderr}.
 inline HostResult runHost(const std::string& args, const std::string& group, const std::string& name,

@@ -104,11 +104,8 @@ fs::path writeLongRun(const fs::path& dir) {
   for (int i = 0; i < 6400; ++i) motion << i / 30.0 << "\t" << std::abs(80 - (i % 160)) << "\t0\t0\n";
   std::string model = test::readText(kHip / "hip_flexion.xml");
   const std::string hip = kHip.string() + "/";
-  for (const std::string from : {">meshes/", ">surfaces/", ">landmarks/", "\"hip_r.urdf"}) {
-    const std::string to = from[0] == '>' ? ">" + hip + from.substr(1) : "\"" + hip + from.substr(1);
-    for (size_t at = model.find(from); at != std::string::npos; at = model.find(from, at + to.size()))
-      model.replace(at, from.size(), to);
-  }
+  for (const std::string from : {">meshes/", ">surfaces/", ">landmarks/", "\"hip_r.urdf"})
+    test::replaceAll(model, from, from[0] == '>' ? ">" + hip + from.substr(1) : "\"" + hip + from.substr(1));
   const std::string motion_element = "motions/hip_flexion_0_80.mot";
   model.replace(model.find(motion_element), motion_element.size(), (dir / "long.mot").string());
   std::ofstream(dir / "long.xml") << model;

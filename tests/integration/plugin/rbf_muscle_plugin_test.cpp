@@ -233,14 +233,9 @@ TEST(RBFMusclePlugin, GluteusBlendedByDistanceKeepsVolumeFibresInsideAndLengthen
 // coordinate have none, and the error names the blend that works there.
 TEST(RBFMusclePlugin, BonesThatCannotTurnAreRefusedByTheDefaultBlendNamingTheDistanceBlend) {
   const fs::path dir = testDir("fixed_joint");
-  std::ifstream in(kHip / "hip_r.urdf");
-  std::string urdf((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const auto replace_all = [&urdf](const std::string& from, const std::string& to) {
-    for (size_t at = urdf.find(from); at != std::string::npos; at = urdf.find(from, at + to.size()))
-      urdf.replace(at, from.size(), to);
-  };
-  replace_all("type=\"revolute\"", "type=\"fixed\"");
-  replace_all("filename=\"meshes/", "filename=\"" + (kHip / "meshes").string() + "/");
+  std::string urdf = test::readText(kHip / "hip_r.urdf");
+  test::replaceAll(urdf, "type=\"revolute\"", "type=\"fixed\"");
+  test::replaceAll(urdf, "filename=\"meshes/", "filename=\"" + (kHip / "meshes").string() + "/");
   std::ofstream(dir / "fixed.urdf") << urdf;
   std::ofstream(dir / "still.mot") << "still\nversion=1\nnRows=2\nnColumns=1\ninDegrees=yes\nendheader\ntime\n0\n1\n";
   const fs::path model = writeModel(dir, kCachedGluteus, kOrigin, (dir / "still.mot").string(), dir / "fixed.urdf");
