@@ -18,9 +18,12 @@ SurfaceStage::SurfaceStage(std::shared_ptr<TissueLattice> lattice, TriangleMesh 
 
 namespace {
 
-/// Newton steps on g(p) = 0 for a field g, each halved until |g| drops; returns the final sample.
-FieldSample projectOnto(const ImplicitField& g, Eigen::Vector3d& p, const SurfaceSettings& settings) {
+/// Newton steps on g(p) = 0 for a field g, each halved until |g| drops; returns the final sample
+/// (and g at p before the steps in start_value).
+FieldSample projectOnto(const ImplicitField& g, Eigen::Vector3d& p, const SurfaceSettings& settings,
+                        double& start_value) {
   FieldSample at = g.calcSample(p);
+  start_value = at.value;
   for (int step = 0; step < settings.newton_steps && std::abs(at.value) > settings.tolerance; ++step) {
     const double n2 = at.gradient.squaredNorm();
     if (!(n2 > 1e-24)) break;
@@ -73,7 +76,7 @@ void SurfaceStage::run(MuscleState& state, const FrameInput&) {
   TriangleMesh& surface = state.surface_M;
   surface.triangles = rest_.triangles;
   lattice_->carry(binding_, surface.vertices_mm);
-  double residual = 0.0, depth = 0.0;
+  double residual = 0.0, depth = 0.0, start = 0.0;
   int unresolved = 0;
   found_.assign(static_cast<size_t>(surface.vertices_mm.cols()), 1);
   for (Eigen::Index v = 0; v < surface.vertices_mm.cols(); ++v) {
@@ -83,7 +86,9 @@ void SurfaceStage::run(MuscleState& state, const FrameInput&) {
     // bone's face on the muscle's side: the surface of min(f, s) is f = 0 outside the bones and
     // s = 0 on them.
     const MuscleShape field(state, lists_.begin(j), lists_.count(j), false);
-    const FieldSample on_field = projectOnto(field, p, settings_);
+    double start_value = 0.0;
+    const FieldSample on_field = projectOnto(field, p, settings_, start_value);
+    start = std::max(start, std::abs(start_value));
     const MuscleShape shape(state, lists_.begin(j), lists_.count(j));
     if (state.bones) exitBoneIntoMuscle(field, on_field.gradient, *state.bones, p, settings_);
     const double g = shape.calcValue(p);
@@ -104,7 +109,7 @@ void SurfaceStage::run(MuscleState& state, const FrameInput&) {
         surface.triangles.col(kept++) = surface.triangles.col(t);
     surface.triangles.conservativeResize(3, kept);
   }
-  report_ = Report{residual, static_cast<double>(unresolved), state.bones ? depth : kNaN};
+  report_ = Report{residual, static_cast<double>(unresolved), state.bones ? depth : kNaN, start};
 }
 
 }  // namespace rbfmuscle

@@ -38,6 +38,7 @@ class SurfaceStage final : public FrameStage {
     double residual_max = kNaN;       ///< largest |min(f, s)| at an unresolved vertex
     double unresolved = kNaN;         ///< vertices that found no surface
     double bone_depth_max_mm = kNaN;  ///< deepest resolved vertex inside a bone, sampled (mm)
+    double start_residual_max = kNaN; ///< largest |f| at a carried vertex before its projection
   };
   static constexpr ReportEntry<Report> kReport[] = {
       {"surface_residual_max", "1", "largest |min(f, s)| at a tracked vertex that found no surface (0: all found it)",
@@ -47,6 +48,10 @@ class SurfaceStage final : public FrameStage {
        &Report::unresolved},
       {"surface_bone_depth_max_mm", "mm", "deepest tracked surface vertex inside a bone (its sampled distance)",
        &Report::bone_depth_max_mm},
+      {"surface_start_residual_max", "1",
+       "largest |f| at a carried vertex before its projection: how far the kernels' field has left the tissue map's "
+       "image of the rest surface (at rest: the fit's own residual there)",
+       &Report::start_residual_max},
   };
 
   bool isNeeded(const FrameInput& input) const override { return input.want_surface; }
