@@ -102,14 +102,20 @@ std::string findMassPropertiesProblem(double mass_kg, const Eigen::Matrix3d& I_C
   }
   if (!I_C.allFinite() || !I_C.isApprox(I_C.transpose(), 0.0)) return "inertia: expected finite, symmetric values";
   const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I_C, Eigen::EigenvaluesOnly).eigenvalues();
-  // Rounding of the eigen-decomposition: a few units in the last place of the largest moment.
-  const double slop = 1e-12 * std::max(moments.cwiseAbs().maxCoeff(), 1e-300);
+  const double largest = moments.cwiseAbs().maxCoeff();
+  if (largest == 0.0) return "";  // a massless point: no inertia at all
+  // A moment of 0, or one equal to the sum of the other two (a rod, a flat plate), is a limit no
+  // body reaches, and rounding as Simbody turns the inertia with its body leaves a diagonal
+  // below 0 or a broken triangle inequality, which Simbody throws for at that pose: each must
+  // clear these bounds by a margin far above rounding.
+  const double margin = kMinInertiaMargin * largest;
   const double sum = moments.sum();
   for (int k = 0; k < 3; ++k)
-    if (moments[k] < -slop || moments[k] > kMaxBodyInertia_kgm2 || moments[k] > sum - moments[k] + slop) {
+    if (moments[k] < margin || moments[k] > kMaxBodyInertia_kgm2 || moments[k] > sum - moments[k] - margin) {
       why << "inertia about the mass centre has principal moments " << moments[0] << ", " << moments[1] << ", "
-          << moments[2] << ": expected each from 0 to " << kMaxBodyInertia_kgm2
-          << " and at most the sum of the other two (no rigid body has other moments)";
+          << moments[2] << ": expected each above 0 and below the sum of the other two by at least "
+          << kMinInertiaMargin << " of the largest, and at most " << kMaxBodyInertia_kgm2
+          << " (no rigid body has other moments; a rod's zero moment or a flat plate's cannot be posed)";
       return why.str();
     }
   return "";

@@ -77,11 +77,16 @@ inline constexpr std::size_t kMaxSkeletonBodies = 1000;
 inline constexpr double kMaxBodyMass_kg = 1e6;
 inline constexpr double kMaxBodyInertia_kgm2 = 1e6;
 
+/// Fraction of the largest principal moment by which every principal moment must exceed 0 and
+/// fall short of the sum of the other two (findMassPropertiesProblem).
+inline constexpr double kMinInertiaMargin = 1e-9;
+
 /// Why `mass_kg` and the inertia `I_C` about the mass centre (kg·m², any consistent units) cannot
 /// be a rigid body's, or "" when they can: a mass that is negative or above kMaxBodyMass_kg, an
-/// inertia that is not symmetric, has a negative principal moment, a moment above
-/// kMaxBodyInertia_kgm2, or one larger than the sum of the other two (the triangle inequality
-/// every real body meets, which Simbody enforces by throwing while it builds the system).
+/// inertia that is not symmetric, a principal moment above kMaxBodyInertia_kgm2, or one not
+/// above 0 or not below the sum of the other two by kMinInertiaMargin of the largest (the
+/// triangle inequality every real body meets, which Simbody enforces by throwing while it builds
+/// the system or poses it). An inertia of all zeros (a massless point) is accepted.
 std::string findMassPropertiesProblem(double mass_kg, const Eigen::Matrix3d& I_C);
 
 /// X_FM of `body`'s joint at the coordinates `q` (all of the skeleton's, rad or mm), computed

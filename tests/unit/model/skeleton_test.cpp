@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "model/skeleton.h"
+#include "model/skeleton_description.h"
 
 #include <gtest/gtest.h>
 
@@ -368,7 +369,31 @@ TEST(SkeletonErrors, UrdfInertiaNoBodyCanHaveIsRefusedNamingTheLink) {
   text.replace(text.find("\"0 -\x10.17 0\""), 11, "\"0 -0.17 0\"");
   expectModelError([&] { Skeleton::fromUrdfText(text, path); },
                    {"URDF " + path, "link 'pelvis': <inertial> inertia about the mass centre has principal moments",
-                    "at most the sum of the other two"});
+                    "below the sum of the other two"});
+}
+
+// Found by fuzz_urdf: a light link of the hip URDF with iyy = 0 (ixx = izz = 1e-9 kg·m²) behind a
+// joint axis of (1, 5, 0). Simbody built the system, then threw its own exception from deep in
+// posing it: turned with its body, the inertia's diagonal rounded to −4.5e-13 kg·mm².
+TEST(SkeletonErrors, UrdfInertiaWithAZeroPrincipalMomentIsRefusedNamingTheLink) {
+  const std::string path =
+      std::string(RBFMUSCLE_SOURCE_DIR) + "/tests/unit/model/data/fuzz/inertia_with_a_zero_principal_moment.urdf";
+  expectModelError([&] { Skeleton::fromUrdf(path); },
+                   {"URDF " + path, "link 'femur_r_adduction': <inertial> inertia about the mass centre has principal moments",
+                    "expected each above 0"});
+}
+
+TEST(SkeletonErrors, InertiaMustClearZeroAndTheTriangleInequalityByAMargin) {
+  using detail::findMassPropertiesProblem;
+  const auto inertia = [](double a, double b, double c) { return Eigen::Vector3d(a, b, c).asDiagonal().toDenseMatrix(); };
+  EXPECT_EQ(findMassPropertiesProblem(1.0, inertia(1, 1, 1)), "");
+  EXPECT_EQ(findMassPropertiesProblem(0.0, inertia(0, 0, 0)), "");          // a massless point
+  EXPECT_EQ(findMassPropertiesProblem(1.0, inertia(1, 1e-8, 1)), "");       // a thin rod, not a line
+  EXPECT_NE(findMassPropertiesProblem(1.0, inertia(1, 0, 1)), "");          // a line
+  EXPECT_NE(findMassPropertiesProblem(1.0, inertia(1, 1e-12, 1)), "");      // within rounding of one
+  EXPECT_EQ(findMassPropertiesProblem(1.0, inertia(1, 1, 2 - 1e-8)), "");   // a thin plate
+  EXPECT_NE(findMassPropertiesProblem(1.0, inertia(1, 1, 2)), "");          // a flat plate
+  EXPECT_NE(findMassPropertiesProblem(1.0, inertia(1, 1, 2.1)), "");        // no body
 }
 
 // Found by fuzz_urdf: the hip URDF cut inside a name of UTF-8 lead bytes. urdfdom's TinyXML read
