@@ -31,8 +31,8 @@ COORDS = ["hip_flexion_r", "hip_adduction_r", "hip_rotation_r"]
 FRAME_TIME_S = 1.0 / 30.0
 
 
-def write_mot(file_name, frames):
-    """frames: list of (flexion, adduction, rotation) in degrees."""
+def write_mot(file_name, frames, out_dir=OUT_DIR):
+    """frames: list of (flexion, adduction, rotation) in degrees; written to out_dir/file_name."""
     lines = [
         file_name[:-4],
         "version=1",
@@ -45,9 +45,11 @@ def write_mot(file_name, frames):
     ]
     for i, q in enumerate(frames):
         lines.append("\t".join(repr(float(v)) for v in [i * FRAME_TIME_S, *q]))
-    with open(os.path.join(OUT_DIR, file_name), "w") as f:
+    path = os.path.join(out_dir, file_name)
+    with open(path, "w") as f:
         f.write("\n".join(lines) + "\n")
-    print(f"wrote models/hip/motions/{file_name} ({len(frames)} frames)")
+    shown = os.path.relpath(path, ROOT)
+    print(f"wrote {path if shown.startswith('..') else shown} ({len(frames)} frames)")
 
 
 def gait_frame(i):

@@ -10,11 +10,13 @@ surface reports surface_start_residual_max, the largest |f| at a carried vertex 
 projection onto f = 0) and tabulates it every 20°.
 """
 import argparse
+import contextlib
 import os
 import subprocess
 import sys
 import tempfile
 
+from make_hip_motions import write_mot
 from readme_section import replace_readme_section
 from run_outputs import read_outputs
 
@@ -23,24 +25,18 @@ HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
 ANGLES_DEG = range(0, 121, 20)
 
 
-def write_motion(path):
-    with open(path, "w") as mot:
-        mot.write("hip_flexion_0_120\nversion=1\nnRows=121\nnColumns=2\ninDegrees=yes\nendheader\ntime\thip_flexion_r\n")
-        for degree in range(121):
-            mot.write(f"{degree / 30.0}\t{degree}\n")
-
-
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-write", action="store_true", help="print the table, leave docs/design.md alone")
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as out_root:
-        motion = os.path.join(out_root, "hip_flexion_0_120.mot")
-        write_motion(motion)
+        motion_name = "hip_flexion_0_120.mot"
+        with contextlib.redirect_stdout(sys.stderr):  # stdout is for the table
+            write_mot(motion_name, [(degree, 0, 0) for degree in range(121)], out_dir=out_root)
         out = os.path.join(out_root, "run")
         print("running hip_flexion.xml to 120° with --frames-mesh (about a minute)", file=sys.stderr)
         subprocess.run([HOST, "run", os.path.join(ROOT, "models", "hip", "hip_flexion.xml"), "-o", out, "--motion",
-                        motion, "--frames-mesh", "--quiet"], check=True)
+                        os.path.join(out_root, motion_name), "--frames-mesh", "--quiet"], check=True)
         columns = read_outputs(out)
     muscles = sorted({h.split(".")[0] for h in columns if h.endswith(".surface_start_residual_max")})
     lines = ["| muscle | " + " | ".join(f"{a}°" for a in ANGLES_DEG) + " |",
