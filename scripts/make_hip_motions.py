@@ -10,6 +10,8 @@ and one frame every 1/30 s (time = frame / 30 s), so a 30 frames/s player shows
 them in real time. Coordinates a motion does not move are written as 0.
 
   hip_flexion_0_80.mot         flexion 0 -> 80 deg in 1 deg steps (81 frames)
+  hip_flexion_0_120.mot        flexion 0 -> 120 deg in 1 deg steps (121 frames):
+                               deep flexion, for the tests and the field drift
   hip_adduction_0_30.mot       adduction 0 -> 30 deg in 1 deg steps (31 frames)
   hip_rotation_m30_30.mot      rotation -30 -> +30 deg in 1 deg steps (61 frames)
   hip_flexion_0_80_step10.mot  flexion 0 -> 80 deg in 10 deg steps (9 frames):
@@ -64,6 +66,7 @@ def gait_frame(i):
 def main():
     os.makedirs(OUT_DIR, exist_ok=True)
     write_mot("hip_flexion_0_80.mot", [(a, 0, 0) for a in range(0, 81)])
+    write_mot("hip_flexion_0_120.mot", [(a, 0, 0) for a in range(0, 121)])
     write_mot("hip_adduction_0_30.mot", [(0, a, 0) for a in range(0, 31)])
     write_mot("hip_rotation_m30_30.mot", [(0, 0, a) for a in range(-30, 31)])
     write_mot("hip_flexion_0_80_step10.mot", [(a, 0, 0) for a in range(0, 81, 10)])

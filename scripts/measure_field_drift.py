@@ -10,13 +10,11 @@ surface reports surface_start_residual_max, the largest |f| at a carried vertex 
 projection onto f = 0) and tabulates it every 20°.
 """
 import argparse
-import contextlib
 import os
 import subprocess
 import sys
 import tempfile
 
-from make_hip_motions import write_mot
 from readme_section import replace_readme_section
 from run_outputs import read_outputs
 
@@ -29,14 +27,12 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-write", action="store_true", help="print the table, leave docs/design.md alone")
     args = parser.parse_args()
+    hip = os.path.join(ROOT, "models", "hip")
     with tempfile.TemporaryDirectory() as out_root:
-        motion_name = "hip_flexion_0_120.mot"
-        with contextlib.redirect_stdout(sys.stderr):  # stdout is for the table
-            write_mot(motion_name, [(degree, 0, 0) for degree in range(121)], out_dir=out_root)
         out = os.path.join(out_root, "run")
         print("running hip_flexion.xml to 120° with --frames-mesh (about a minute)", file=sys.stderr)
-        subprocess.run([HOST, "run", os.path.join(ROOT, "models", "hip", "hip_flexion.xml"), "-o", out, "--motion",
-                        os.path.join(out_root, motion_name), "--frames-mesh", "--quiet"], check=True)
+        subprocess.run([HOST, "run", os.path.join(hip, "hip_flexion.xml"), "-o", out, "--motion",
+                        os.path.join(hip, "motions", "hip_flexion_0_120.mot"), "--frames-mesh", "--quiet"], check=True)
         columns = read_outputs(out)
     muscles = sorted({h.split(".")[0] for h in columns if h.endswith(".surface_start_residual_max")})
     lines = ["| muscle | " + " | ".join(f"{a}°" for a in ANGLES_DEG) + " |",

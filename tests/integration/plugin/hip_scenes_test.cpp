@@ -26,7 +26,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <memory>
 #include <string>
@@ -218,10 +217,10 @@ class SurfaceWatch {
   Eigen::Matrix3Xd previous_vertices_;
 };
 
-/// Runs `scene` (models/hip/SCENE.xml with `motion_path`, absolute or in models/hip/motions)
-/// and checks every frame (file comment).
+/// Runs `scene` (models/hip/SCENE.xml with the motion models/hip/motions/MOTION_FILE) and
+/// checks every frame (file comment).
 void checkScene(const std::string& scene, const std::string& motion_file, const SceneChecks& checks) {
-  const fs::path motion_path = fs::path(motion_file).is_absolute() ? fs::path(motion_file) : kHip / "motions" / motion_file;
+  const fs::path motion_path = kHip / "motions" / motion_file;
   const std::string tag = scene + "_" + std::to_string(::getpid());
   const fs::path out = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin" / tag;
   fs::remove_all(out);
@@ -293,21 +292,11 @@ TEST(HipScenes, GaitKeepsVolumeAndTheMusclesOutOfTheBonesEveryFrame) {
   checkScene("hip_gait", "gait_cycle.mot", checks);
 }
 
-/// Flexion 0 → 120° in 1° frames, written beside the test's output.
-std::string writeFlexionTo120() {
-  const fs::path motion = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin/hip_flexion_0_120.mot";
-  fs::create_directories(motion.parent_path());
-  std::ofstream mot(motion);
-  mot << "hip_flexion_0_120\nversion=1\nnRows=121\nnColumns=2\ninDegrees=yes\nendheader\ntime\thip_flexion_r\n";
-  for (int degree = 0; degree <= 120; ++degree) mot << degree / 30.0 << '\t' << degree << '\n';
-  return motion.string();
-}
-
 TEST(HipScenes, GluteusFlexedTo120DegreesKeepsVolumeFibresInsideAndOutOfTheBones) {
   SceneChecks checks;
   checks.muscles = {"glmax_r"};
   checks.fibres_monotone = {"glmax_r"};
-  checkScene("hip_flexion", writeFlexionTo120(), checks);
+  checkScene("hip_flexion", "hip_flexion_0_120.mot", checks);
 }
 
 TEST(HipScenes, DISABLED_GluteusAt112DegreesJumps4mmBeyondTheFemursMove) {
@@ -315,7 +304,7 @@ TEST(HipScenes, DISABLED_GluteusAt112DegreesJumps4mmBeyondTheFemursMove) {
   checks.muscles = {"glmax_r"};
   checks.jump_checked = {"glmax_r"};
   checks.one_piece = {"glmax_r"};
-  checkScene("hip_flexion", writeFlexionTo120(), checks);
+  checkScene("hip_flexion", "hip_flexion_0_120.mot", checks);
 }
 
 TEST(HipScenes, DISABLED_FlexionIliacusJumps0point7mmBeyondTheFemursMoveWhereTheFemoralHeadPinchesIt) {
