@@ -87,7 +87,7 @@ def table(results):
     for scene, (coordinate, angle_deg, result) in results.items():
         frames = np.linspace(0, len(angle_deg) - 1, TABLE_FRAMES).round().astype(int)
         for i, m in enumerate(MUSCLES):
-            cells = [f"{angle_deg[j]:.0f}°: {result[m]['mean'][j]:.0f} / {result[m]['line'][j]:.0f}" for j in frames]
+            cells = [f"{angle_deg[j]:.0f}°: {round(result[m]['mean'][j])} / {round(result[m]['line'][j])}" for j in frames]
             lines.append(f"| {scene + ' (' + coordinate + ')' if i == 0 else ''} | {m} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 

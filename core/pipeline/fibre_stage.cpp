@@ -55,8 +55,10 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
       while (b <= segments && !(values_[first + b] > 0)) ++b;
       if (a < 0 || b > segments) continue;
       const int c = static_cast<int>(first + j);
-      const MuscleShape shape(state, lists_.begin(c), lists_.count(c));
-      // The neighbours were found inside by their own kernel lists; this point's list must agree.
+      // The whole field, not this point's rest kernel list: the list reaches about one kernel
+      // radius from the point's rest place, and the neighbours are up to a segment away (15 mm on
+      // the psoas), where the list can miss the kernels that hold them inside. Rare, so cheap.
+      const MuscleShape shape(state);
       if (!(shape.calcValue(points.col(first + a)) > 0.0) || !(shape.calcValue(points.col(first + b)) > 0.0)) continue;
       Eigen::Vector3d p = points.col(c);
       values_[c] = placeBetweenInsideNeighbours(shape, projection_, points.col(first + a), points.col(first + b),

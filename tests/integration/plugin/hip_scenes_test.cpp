@@ -4,21 +4,21 @@
 /// muscle: finite outputs, the volume held, and every tracked surface vertex at most 0.5 mm
 /// inside the femur, the ilium or the sacrum (exact distance to the posed meshes), and every
 /// fibre end within 0.5 mm of its place on its bone, and its hip flexion moment arm of the
-/// published sign (the gluteus extends the hip, the iliacus and the psoas flex it); for the
-/// gluteus and the iliacus also every fibre point inside, and in flexion, adduction and gait the
-/// gluteus's tracked surface in one piece (also the iliacus's in gait). Where a muscle lies on a
-/// bone its tracked vertices find no surface and their triangles are dropped, which cuts the
-/// tracked mesh of the iliacus and the psoas in flexion; the pieces are printed. The gluteus
-/// also flexes to 120°, with the same checks but the jump. In the main job (flexion 0→80° in 1°
-/// frames) also: the gluteus's fibres lengthen and the iliacus's and the psoas's shorten at every
-/// frame, the psoas to at most 0.93 of its rest length, and no vertex of the gluteus's or the
+/// published sign (the gluteus extends the hip, the iliacus and the psoas flex it), and every
+/// fibre point inside; in flexion, adduction and gait also the gluteus's tracked surface in one
+/// piece (also the iliacus's in gait). Where a muscle lies on a bone its tracked vertices find
+/// no surface and their triangles are dropped, which cuts the tracked mesh of the iliacus and
+/// the psoas in flexion; the pieces are printed. The gluteus also flexes to 120°, with the same
+/// checks but the jump. In the main job (flexion 0→80° in 1° frames) also: the gluteus's fibres
+/// lengthen and the iliacus's and the psoas's shorten at every frame, the psoas to at most 0.93
+/// of its rest length, and no vertex of the gluteus's or the
 /// psoas's tracked surface is further from the previous frame's surface (its tracked mesh, or
 /// the vertex's own last place where that mesh lost triangles) than the femur moves there plus
 /// 1 mm. What does not hold yet is measured and printed here and asserted in the disabled tests
 /// below, named for what fails: the iliacus jumps by up to 0.7 mm more than that where it lies
-/// between the femoral head and the acetabular rim, the psoas leaves up to 31 of its 1600 fibre
-/// points outside between the femoral neck and the acetabular rim, and the gluteus flexed to
-/// 112° jumps by 4 mm.
+/// between the femoral head and the acetabular rim, the psoas leaves one fibre end of 100 outside
+/// from 71° of flexion (the field at its insertion on the lesser trochanter drifts by more than the
+/// end may move off its bone), and the gluteus flexed to 112° jumps by 4 mm.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -100,7 +100,7 @@ struct SceneChecks {
   /// tracked surface in one piece (where a muscle lies on a bone, its vertices there find no
   /// surface and their triangles are dropped, which can cut the tracked mesh; see SurfaceStage)
   std::vector<std::string> one_piece;
-  std::vector<std::string> fibres_inside{"glmax_r", "iliacus_r"};  ///< every fibre point inside
+  std::vector<std::string> fibres_inside = kMuscles;                ///< every fibre point inside
   std::vector<std::string> fibres_monotone;  ///< the gluteus lengthens, the others shorten
   std::vector<std::string> jump_checked;     ///< surface jumps asserted
   /// the sign of the hip flexion moment arm (mean over fibres) asserted at every frame
@@ -270,6 +270,7 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
 TEST(HipScenes, FlexionKeepsVolumeAndTheMusclesOutOfTheBonesTheirFibresChangeLengthEveryFrameAsTheirArmsSay) {
   SceneChecks checks;
   checks.fibres_monotone = kMuscles;
+  checks.fibres_inside = {"glmax_r", "iliacus_r"};  // the psoas: the disabled test below
   checks.jump_checked = {"glmax_r", "psoas_r"};
   checks.one_piece = {"glmax_r"};
   checks.last_ratio_at_most = {{"psoas_r", 0.93}};
@@ -314,7 +315,7 @@ TEST(HipScenes, DISABLED_FlexionIliacusJumps0point7mmBeyondTheFemursMoveWhereThe
   checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
 }
 
-TEST(HipScenes, DISABLED_FlexionPsoasLeavesUpTo31FibrePointsOf1600OutsideBetweenTheFemoralNeckAndTheAcetabularRim) {
+TEST(HipScenes, DISABLED_FlexionPsoasLeavesOneFibreEndOutsideFrom71DegreesWhereItsFieldDriftsOffTheLesserTrochanter) {
   SceneChecks checks;
   checks.muscles = {"psoas_r"};
   checks.fibres_inside = {"psoas_r"};
