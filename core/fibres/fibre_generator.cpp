@@ -56,7 +56,7 @@ double distanceToRegion(const Eigen::Vector3d& p, const Eigen::Matrix3Xd& region
   return std::sqrt((region.colwise() - p).colwise().squaredNorm().minCoeff());
 }
 
-/// N interior nodes spread over the attachment near `region` (file comment, step 2).
+/// N fibre ends spread over the attachment near `region` (file comment, step 2).
 std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& region, int count, double radius,
                             double end_depth, const char* which, double& used_radius) {
   if (region.cols() == 0 || !region.allFinite())
@@ -73,24 +73,24 @@ std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& re
         candidates.push_back(static_cast<int>(a));
         if (grid.values(a) >= end_depth) deep.push_back(static_cast<int>(a));
       }
-    if (static_cast<int>(candidates.size()) >= count) break;
+    if (!candidates.empty()) break;
   }
-  if (static_cast<int>(candidates.size()) < count)
-    throw std::invalid_argument(std::string("generateFibres: only ") + std::to_string(candidates.size()) +
-                                " interior grid nodes near the " + which + " region (radius " +
-                                std::to_string(radius) + " mm) for " + std::to_string(count) + " fibres");
+  if (candidates.empty())
+    throw std::invalid_argument(std::string("generateFibres: no interior grid node near the ") + which +
+                                " region (radius " + std::to_string(radius) + " mm)");
   used_radius = radius;
   // Deep nodes only when there are enough of them at this radius, else the `count`
-  // deepest: the shallow ones are the first to fall outside when the surface near the
-  // attachment moves.
+  // deepest (all, when fewer): the shallow ones are the first to fall outside when the
+  // surface near the attachment moves.
   if (static_cast<int>(deep.size()) >= count) {
     candidates.swap(deep);
-  } else {
+  } else if (static_cast<int>(candidates.size()) > count) {
     std::stable_sort(candidates.begin(), candidates.end(), [&](int a, int b) { return grid.values(a) > grid.values(b); });
     candidates.resize(static_cast<size_t>(count));
     std::sort(candidates.begin(), candidates.end());
   }
-  // Farthest-point sampling from the candidate nearest the first region point.
+  // Farthest-point sampling from the candidate nearest the first region point; with fewer
+  // candidates than fibres, the fibres share them in that order.
   int first = candidates[0];
   double best = std::numeric_limits<double>::infinity();
   for (int a : candidates) {
@@ -99,7 +99,7 @@ std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& re
   }
   std::vector<int> chosen{first};
   std::vector<double> nearest(candidates.size(), std::numeric_limits<double>::infinity());
-  while (static_cast<int>(chosen.size()) < count) {
+  while (chosen.size() < std::min(candidates.size(), static_cast<size_t>(count))) {
     size_t far = 0;
     double far_d = -1;
     for (size_t c = 0; c < candidates.size(); ++c) {
@@ -108,7 +108,21 @@ std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& re
     }
     chosen.push_back(candidates[far]);
   }
+  for (size_t i = chosen.size(); i < static_cast<size_t>(count); ++i) chosen.push_back(chosen[i % candidates.size()]);
   return chosen;
+}
+
+/// Moves each end (3×N) up the field towards f = end_depth, by at most `max_move_mm` (file
+/// comment, step 2).
+void climbEnds(const GaussianField& field, const FibreSettings& settings, double max_move_mm, Eigen::Matrix3Xd& ends) {
+  if (!(settings.end_depth > settings.projection.margin_mm)) return;
+  ProjectionSettings climb = settings.projection;
+  climb.margin_mm = settings.end_depth;
+  for (Eigen::Index i = 0; i < ends.cols(); ++i) {
+    Eigen::Vector3d p = ends.col(i);
+    projectInside(field, climb, p, max_move_mm);
+    ends.col(i) = p;
+  }
 }
 
 /// Orders `points` (3×N) by strips of u then v (file comment, step 3).
@@ -204,6 +218,9 @@ RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& or
     p0.col(i) = grid.nodes_mm.col(starts[static_cast<size_t>(i)]);
     p1.col(i) = grid.nodes_mm.col(ends[static_cast<size_t>(i)]);
   }
+  fibres.end_climb_max_mm = 0.5 * grid.spacing_mm;
+  climbEnds(field, settings, fibres.end_climb_max_mm, p0);
+  climbEnds(field, settings, fibres.end_climb_max_mm, p1);
   // Pairing axes (file comment, step 3).
   Eigen::Vector3d d = p1.rowwise().mean() - p0.rowwise().mean();
   d = d.norm() > 0 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::UnitZ();
@@ -224,6 +241,8 @@ RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& or
     const std::vector<int> path = findShortestPath(grid, a, b, settings.centre_preference);
     Eigen::Matrix3Xd polyline(3, static_cast<Eigen::Index>(path.size()));
     for (size_t k = 0; k < path.size(); ++k) polyline.col(static_cast<Eigen::Index>(k)) = grid.nodes_mm.col(path[k]);
+    polyline.col(0) = p0.col(order0[static_cast<size_t>(i)]);
+    polyline.col(polyline.cols() - 1) = p1.col(order1[static_cast<size_t>(i)]);
     fibres.points_mm.middleCols(static_cast<Eigen::Index>(i) * per, per) = resample(polyline, settings.segments);
   }
   // Spreading scale: the radius r₀ each fibre would own, with the chords as lengths.

@@ -7,14 +7,18 @@
 /// Method (deterministic, all in M, mm):
 ///  1. the inside {f ≥ margin} is sampled on a regular grid (interior_grid.h);
 ///  2. start candidates are the interior nodes within r of an origin region point
-///     (r = attachment_radius_mm, grown ×1.5 until there are ≥ N candidates, cap 8);
+///     (r = attachment_radius_mm, grown ×1.5 only while there is none, cap 8: ends far
+///     from their area move rigidly with its bone where the tissue does not);
 ///     among them, only the nodes with f ≥ end_depth when there are ≥ N such nodes, else
 ///     the N deepest (why: the fibre ends move rigidly with their bones while the surface
 ///     near the attachment deforms, so ends picked at the surface fall outside it, and they
 ///     may move at most end_max_move_mm off their attachment; docs/design.md, Fibres);
 ///     N start points are chosen by farthest-point sampling (first: the candidate
 ///     nearest the first region point), so they spread evenly over the attachment area;
-///     the same for the end points at the insertion;
+///     with fewer candidates than N the fibres share them, converging as on a tendon;
+///     each then climbs towards f = end_depth by a monotone ascent of at most half the grid
+///     spacing (the grid samples the depth coarsely, 1.7 mm apart on a tendon about twice
+///     as thick); the same for the end points at the insertion;
 ///  3. pairing without crossings: with d the direction from the mean start to the mean
 ///     end, e₁ the principal direction of the starts in the plane ⟂ d and e₂ = d × e₁,
 ///     both sets get coordinates (u, v) along (e₁, e₂) about their own mean, divided by
@@ -31,7 +35,7 @@
 ///     ‖·‖ < 3r₀, component along the fibre removed, push capped at r₀; r₀ = √(V/(π N ℓ)),
 ///     V the interior volume, ℓ the distance between the mean start and mean end), so the
 ///     fibres fill the cross-section instead of bundling along the shortest routes;
-///     then projectInside (fibre_projection.h). End points stay on their grid nodes.
+///     then projectInside (fibre_projection.h). End points stay where they climbed to.
 /// The dissected fibre directions are not used to route the fibres; they can be
 /// compared with the result (see the tests).
 #include "fibres/fibre_projection.h"
@@ -64,9 +68,9 @@ struct FibreSettings {
   int count = 100;                   ///< N fibres, ≥ 1
   int segments = 15;                 ///< S segments per fibre, ≥ 1
   double attachment_radius_mm = 10;  ///< r: start/end candidates within r of a region point (mm), > 0
-  /// Fibre ends are nodes with f ≥ end_depth when r holds ≥ N of them, else the N deepest
-  /// (field unit ≈ mm of depth, see file comment step 2), finite; ≤ margin means any
-  /// interior node.
+  /// Fibre ends are nodes with f ≥ end_depth when r holds ≥ N of them, else the N deepest,
+  /// and climb towards it (field unit ≈ mm of depth, see file comment step 2), finite;
+  /// ≤ margin means any interior node, unmoved.
   double end_depth = 4.0;
   int grid_nodes = 20000;            ///< interior grid nodes, ≥ 8
   double centre_preference = 1.0;    ///< c ≥ 0 of findShortestPath
@@ -91,6 +95,7 @@ struct RestFibres {
   double covered_fraction = 0;   ///< fraction of interior grid nodes within 2 r₀ of a fibre
   double attachment_radius_origin_mm = 0;     ///< r used at the origin after growth (mm)
   double attachment_radius_insertion_mm = 0;  ///< r used at the insertion after growth (mm)
+  double end_climb_max_mm = 0;                ///< the most an end may climb off its grid node: half the spacing (mm)
 };
 
 /// Generates the fibres (see file comment).
@@ -98,7 +103,7 @@ struct RestFibres {
 ///   attached centres), K₀ ≥ 1; `insertion_region_mm` the same for the insertion.
 /// @throws std::invalid_argument on bad settings (including more than kMaxFibrePoints points or
 ///   kMaxSpreadingPairs pair evaluations, checked before any work), empty or non-finite regions, or when no
-///   N interior candidates lie near a region; std::runtime_error if the inside is disconnected.
+///   interior node lies near a region; std::runtime_error if the inside is disconnected.
 RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& origin_region_mm,
                           const Eigen::Matrix3Xd& insertion_region_mm, const FibreSettings& settings = {});
 

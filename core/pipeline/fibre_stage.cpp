@@ -56,7 +56,7 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
       if (a < 0 || b > segments) continue;
       const int c = static_cast<int>(first + j);
       // The whole field, not this point's rest kernel list: the list reaches about one kernel
-      // radius from the point's rest place, and the neighbours are up to a segment away (15 mm on
+      // radius from the point's rest place, and the neighbours are up to a segment away (19 mm on
       // the psoas), where the list can miss the kernels that hold them inside. Rare, so cheap.
       const MuscleShape shape(state);
       if (!(shape.calcValue(points.col(first + a)) > 0.0) || !(shape.calcValue(points.col(first + b)) > 0.0)) continue;

@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "fibres/fibre_generator.h"
+#include "fibres/interior_grid.h"
 
 #include "fibre_test_shapes.h"
 
@@ -44,8 +45,8 @@ TEST_F(RodFibres, RunFromOriginToInsertion) {
   const RestFibres& f = *fibres_;
   for (int i = 0; i < f.count; ++i) {
     const Eigen::Vector3d a = f.points_mm.col(i * 11), b = f.points_mm.col(i * 11 + 10);
-    EXPECT_LE((a - test::rodOrigin().col(0)).norm(), f.attachment_radius_origin_mm + 1e-9) << i;
-    EXPECT_LE((b - test::rodInsertion().col(0)).norm(), f.attachment_radius_insertion_mm + 1e-9) << i;
+    EXPECT_LE((a - test::rodOrigin().col(0)).norm(), f.attachment_radius_origin_mm + f.end_climb_max_mm + 1e-9) << i;
+    EXPECT_LE((b - test::rodInsertion().col(0)).norm(), f.attachment_radius_insertion_mm + f.end_climb_max_mm + 1e-9) << i;
     // x increases along each fibre (the rod is straight), lengths at least the chord.
     for (int j = 0; j < 10; ++j) EXPECT_LT(f.points_mm(0, i * 11 + j), f.points_mm(0, i * 11 + j + 1)) << i << " " << j;
     EXPECT_GE(f.lengths_mm(i), (b - a).norm() - 1e-9);
@@ -79,6 +80,54 @@ TEST_F(RodFibres, FillTheVolume) {
 TEST_F(RodFibres, GenerationIsDeterministic) {
   const RestFibres again = generateFibres(*field_, test::rodOrigin(), test::rodInsertion(), test::makeSmallFibreSettings());
   EXPECT_EQ(again.points_mm, fibres_->points_mm);
+}
+
+/// The end points (j = 0 and j = S) of every fibre.
+std::vector<Eigen::Vector3d> collectEnds(const RestFibres& f) {
+  std::vector<Eigen::Vector3d> ends;
+  for (int i = 0; i < f.count; ++i)
+    for (int j : {0, f.segments}) ends.push_back(f.points_mm.col(i * (f.segments + 1) + j));
+  return ends;
+}
+
+TEST(FibreGenerator, FibresShareTheFewNodesNearASmallAreaRatherThanEndFarFromIt) {
+  const GaussianField field = test::makeFibreRod();
+  FibreSettings s = test::makeSmallFibreSettings();
+  s.attachment_radius_mm = 2;  // a few grid nodes (1.5 mm apart) for 30 fibres
+  const RestFibres f = generateFibres(field, test::rodOrigin(), test::rodInsertion(), s);
+  EXPECT_EQ(f.attachment_radius_origin_mm, 2.0);
+  EXPECT_EQ(f.attachment_radius_insertion_mm, 2.0);
+  std::vector<Eigen::Vector3d> distinct;
+  for (const Eigen::Vector3d& e : collectEnds(f)) {
+    EXPECT_LE(std::min((e - test::rodOrigin().col(0)).norm(), (e - test::rodInsertion().col(0)).norm()),
+              2.0 + f.end_climb_max_mm + 1e-9);
+    if (std::none_of(distinct.begin(), distinct.end(), [&](const Eigen::Vector3d& d) { return (d - e).norm() < 1e-9; }))
+      distinct.push_back(e);
+  }
+  EXPECT_GE(distinct.size(), 2u);
+  EXPECT_LT(distinct.size(), 30u) << "fewer distinct ends than fibres: the fibres share them";
+  Eigen::VectorXd values;
+  field.calcValues(f.points_mm, values);
+  EXPECT_GT(values.minCoeff(), 0.0);
+}
+
+TEST(FibreGenerator, EndsClimbFromTheirGridNodesTowardsTheEndDepthByAtMostHalfTheSpacing) {
+  const GaussianField field = test::makeFibreRod();
+  FibreSettings s = test::makeSmallFibreSettings();
+  s.end_depth = 1e3;  // deeper than the rod: every end climbs as far as it may
+  const RestFibres f = generateFibres(field, test::rodOrigin(), test::rodInsertion(), s);
+  const InteriorGrid grid = makeInteriorGrid(field, s.projection.margin_mm, s.grid_nodes);  // the generator's
+  EXPECT_DOUBLE_EQ(f.end_climb_max_mm, 0.5 * grid.spacing_mm);
+  int climbed = 0;
+  for (const Eigen::Vector3d& end : collectEnds(f)) {
+    // The node it left: the nearest one (half a spacing is less than the distance between nodes).
+    Eigen::Index node = 0;
+    const double off = std::sqrt((grid.nodes_mm.colwise() - end).colwise().squaredNorm().minCoeff(&node));
+    EXPECT_LE(off, f.end_climb_max_mm + 1e-9);
+    EXPECT_GE(field.calcValue(end), grid.values(node) - 1e-12) << "an end went down";
+    climbed += off > 0.1 * f.end_climb_max_mm && field.calcValue(end) > grid.values(node) + 1e-6;
+  }
+  EXPECT_GT(climbed, f.count) << "most of the 2N ends left their nodes uphill";
 }
 
 TEST(FibreGenerator, RegionAwayFromTheMuscleIsNamed) {
