@@ -33,8 +33,8 @@ COORDS = ["hip_flexion_r", "hip_adduction_r", "hip_rotation_r"]
 FRAME_TIME_S = 1.0 / 30.0
 
 
-def write_mot(file_name, frames, out_dir=OUT_DIR):
-    """frames: list of (flexion, adduction, rotation) in degrees; written to out_dir/file_name."""
+def write_mot(file_name, frames):
+    """frames: list of (flexion, adduction, rotation) in degrees."""
     lines = [
         file_name[:-4],
         "version=1",
@@ -47,11 +47,9 @@ def write_mot(file_name, frames, out_dir=OUT_DIR):
     ]
     for i, q in enumerate(frames):
         lines.append("\t".join(repr(float(v)) for v in [i * FRAME_TIME_S, *q]))
-    path = os.path.join(out_dir, file_name)
-    with open(path, "w") as f:
+    with open(os.path.join(OUT_DIR, file_name), "w") as f:
         f.write("\n".join(lines) + "\n")
-    shown = os.path.relpath(path, ROOT)
-    print(f"wrote {path if shown.startswith('..') else shown} ({len(frames)} frames)")
+    print(f"wrote models/hip/motions/{file_name} ({len(frames)} frames)")
 
 
 def gait_frame(i):
