@@ -79,4 +79,13 @@ std::vector<double> calcComponentVolumes(const TriangleMesh& mesh) {
   return volumes;
 }
 
+void calcVertexNormals(const TriangleMesh& mesh, Eigen::Matrix3Xd& out) {
+  out.setZero(3, mesh.vertices_mm.cols());
+  for (int t = 0; t < mesh.countTriangles(); ++t) {
+    const Eigen::Vector3d a = mesh.getCorner(t, 0);
+    const Eigen::Vector3d area_normal = (mesh.getCorner(t, 1) - a).cross(mesh.getCorner(t, 2) - a);
+    for (int c = 0; c < 3; ++c) out.col(mesh.triangles(c, t)) += area_normal;
+  }
+}
+
 }  // namespace rbfmuscle

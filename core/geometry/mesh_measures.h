@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #pragma once
 /// @file
-/// Global measures of a triangle mesh: enclosed volume, surface area, components.
+/// Global measures of a triangle mesh: enclosed volume, surface area, components, vertex normals.
 #include "geometry/triangle_mesh.h"
 
 #include <vector>
@@ -24,5 +24,10 @@ int countComponents(const TriangleMesh& mesh);
 /// Signed enclosed volume (mm³) of each connected piece (as countComponents), largest first:
 /// a surface that came apart shows its crumbs here, a cavity as a negative volume.
 std::vector<double> calcComponentVolumes(const TriangleMesh& mesh);
+
+/// Area-weighted vertex normals: column v of `out` (3×V, resized) is Σ (b − a) × (c − a) over the
+/// triangles (a, b, c) at vertex v, unnormalised (length twice their area; 0 at a vertex no
+/// triangle uses), outward for a mesh wound outward.
+void calcVertexNormals(const TriangleMesh& mesh, Eigen::Matrix3Xd& out);
 
 }  // namespace rbfmuscle

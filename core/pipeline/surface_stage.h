@@ -5,28 +5,21 @@
 #include "dynamics/tissue_lattice.h"
 #include "geometry/triangle_mesh.h"
 #include "pipeline/frame_stage.h"
+#include "pipeline/surface_projection.h"
 #include "rbf/neighbour_lists.h"
 
 #include <memory>
 
 namespace rbfmuscle {
 
-/// Settings of the tracked surface.
-struct SurfaceSettings {
-  int newton_steps = 10;         ///< projection steps per vertex at most, ≥ 1
-  double tolerance = 1e-3;       ///< stop a vertex when |min(f, s)| ≤ this (field unit ≈ mm)
-  double max_step_mm = 2.0;      ///< longest projection step (mm), > 0
-  int max_exit_steps = 50;       ///< steps of the way out of a bone into the muscle at most, ≥ 1
-};
-
-/// The rest surface's vertices carried by the tissue map, then projected onto f = 0 (Newton
-/// steps along the gradient, each halved until the residual drops) and, where that lies in a
-/// bone, out along the way into the muscle to the bone's face there, if it is within twice the
-/// depth: the surface of min(f, s), for pictures and for checking contacts, with no grid
-/// evaluated per frame. A vertex whose part of the muscle lies wholly in a bone, or whose way
-/// into the muscle runs on through the bone, finds no surface; its triangles are left out (the
-/// vertex stays, so vertices keep their index from frame to frame). Runs only when a frame asks
-/// for it.
+/// The rest surface's vertices carried by the tissue map, then put onto f = 0 (surface_projection.h:
+/// a vertex inside goes out along the carried surface's normal, one outside by Newton steps along
+/// the gradient) and, where that lies in a bone, out along the way into the muscle to the bone's
+/// face there, if it is within twice the depth: the surface of min(f, s), for pictures and for
+/// checking contacts, with no grid evaluated per frame. A vertex whose part of the muscle lies
+/// wholly in a bone, or whose way into the muscle runs on through the bone, finds no surface; its
+/// triangles are left out (the vertex stays, so vertices keep their index from frame to frame).
+/// Runs only when a frame asks for it.
 class SurfaceStage final : public FrameStage {
  public:
   /// @param rest_surface_M the rest surface (M, mm), e.g. extracted once from the rest field
@@ -67,6 +60,7 @@ class SurfaceStage final : public FrameStage {
   LatticeBinding binding_;
   NeighbourLists lists_;
   std::vector<char> found_;  ///< per vertex: whether it found the surface this frame
+  Eigen::Matrix3Xd normals_; ///< the carried surface's vertex normals this frame (unnormalised)
   Report report_;
 };
 
