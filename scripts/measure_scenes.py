@@ -5,9 +5,10 @@
 Usage: scripts/measure_scenes.py [--scenes hip_flexion,hip_adduction,...] [--no-write]
 Each scene runs once through build/bin/rbfmuscle (no frame meshes), then its summary.json and
 outputs.csv give, per muscle: the median wall time of a frame's update and of each stage, the
-volume ratio's range over the frames, the fibre length ratio at the first and last frame, and
-the most fibre points left outside. Timings depend on the machine and its load: the table
-states the machine's core count and load.
+volume ratio's range over the frames, the fibre length ratio at the first and last frame, the
+fibre length steps of more than 1 % between consecutive frames (fibre-frames, and the largest
+step), and the most fibre points left outside. Timings depend on the machine and its load: the
+table states the machine's core count and load.
 """
 import argparse
 import json
@@ -40,12 +41,16 @@ def run_scene(scene, out_root):
     for m in muscles:
         volume = column(m + ".volume_ratio")
         fibre = column(m + ".fibre_length_ratio")
+        prefix = m + ".fibre_length_mm_"
+        lengths = np.array([columns[h] for h in columns if h.startswith(prefix)])  # fibres × frames
+        steps = np.abs(lengths[:, 1:] / lengths[:, :-1] - 1.0)
         figures.append({
             "muscle": m,
             "update_ms": statistics.median(column(m + ".update_ms")),
             "stages_ms": {s: statistics.median(column(f"{m}.{s}_ms")) for s in STAGES},
             "volume": (min(volume), max(volume)),
             "fibre": (fibre[0], fibre[-1]),
+            "steps": (int((steps > 0.01).sum()), float(steps.max()) if steps.size else 0.0),
             "outside": max(column(m + ".fibre_points_outside")),
         })
     return summary, figures
@@ -55,8 +60,8 @@ def table(results):
     lines = [f"Measured by `scripts/measure_scenes.py` on a {os.cpu_count()}-core machine "
              f"(load {os.getloadavg()[0]:.1f} when it ended); a frame updates the muscles in parallel.",
              "",
-             "| scene | frame median (ms) | frames/s | muscle | update median (ms) | of it: contacts / prediction / descent / volume / fibres (ms) | volume ratio | fibre length ratio, first → last frame | fibre points outside |",
-             "|---|---|---|---|---|---|---|---|---|"]
+             "| scene | frame median (ms) | frames/s | muscle | update median (ms) | of it: contacts / prediction / descent / volume / fibres (ms) | volume ratio | fibre length ratio, first → last frame | fibre steps > 1 % between frames (largest) | fibre points outside |",
+             "|---|---|---|---|---|---|---|---|---|---|"]
     for scene, (summary, figures) in results.items():
         median = summary["frame_wall_ms"]["median"]
         for i, f in enumerate(figures):
@@ -64,7 +69,7 @@ def table(results):
             lines.append(f"| {scene if i == 0 else ''} | {f'{median:.1f}' if i == 0 else ''} | "
                          f"{f'{1000.0 / median:.1f}' if i == 0 else ''} | {f['muscle']} | {f['update_ms']:.1f} | {stages} | "
                          f"{f['volume'][0]:.4f} – {f['volume'][1]:.4f} | {f['fibre'][0]:.3f} → {f['fibre'][1]:.3f} | "
-                         f"{f['outside']:.0f} |")
+                         f"{f['steps'][0]} ({100.0 * f['steps'][1]:.2f} %) | {f['outside']:.0f} |")
     if "hip_flexion" in results and "hip_flexion_osim" in results:
         lines[0] += " " + axes_comparison(results["hip_flexion"][1], results["hip_flexion_osim"][1])
     return "\n".join(lines)
