@@ -18,6 +18,7 @@
 #include "model/moment_arms.h"
 #include "model/osim_muscle_path.h"
 #include "model/skeleton.h"
+#include "pipeline/muscle_pieces.h"
 #include "pipeline/muscle_pipeline.h"
 
 namespace rbfmuscle {
@@ -159,6 +160,7 @@ void RBFMuscle::declareInvariants(const PipelineSettings& settings) {
   std::ostringstream depth;
   depth << "tracked surface no deeper in a bone than the surface tolerance, " << settings.surface.tolerance << " mm";
   declareInvariant({"surface_bone_depth_max_mm", -infinity, settings.surface.tolerance, depth.str(), true});
+  declareInvariant({"pieces", 1.0, 1.0, "the muscle in one piece (counted when check_pieces_cell_mm > 0)", true});
 }
 
 Eigen::Matrix3Xd RBFMuscle::readArea_M(const Property<std::string>& spec, const InitContext& context, bool last) const {
@@ -271,6 +273,11 @@ void RBFMuscle::update(const FrameState& state) {
   runFrame([&](int body) { return state.getBodyTransform(body); }, state.getCoordinates(), state.wantsGeometry());
   report_values_.clear();
   pipeline_->appendReports(report_values_);
+  if (check_pieces_cell_mm.get() > 0.0) {
+    const MusclePieces pieces = countMusclePieces(pipeline_->getState(), check_pieces_cell_mm.get());
+    pieces_ = pieces.pieces;
+    stray_volume_mm3_ = pieces.stray_volume_mm3;
+  }
 }
 
 void RBFMuscle::runFrame(const std::function<Eigen::Isometry3d(int)>& X_GB, const Eigen::VectorXd& q, bool want_surface) {

@@ -19,6 +19,8 @@
 
 #include <Eigen/Geometry>
 
+#include <limits>
+
 #include <functional>
 #include <memory>
 #include <vector>
@@ -71,6 +73,12 @@ class RBFMuscle final : public Component {
                                     "the mean over fibres, fibre_moment_arm_<coordinate>_mm, each fibre's, and "
                                     "line_of_action_moment_arm_<coordinate>_mm): 'all' or names 'a, b'; '' = none. "
                                     "Each coordinate re-runs the frame twice (central difference)"};
+  Property<double> check_pieces_cell_mm{this, "check_pieces_cell_mm", 0.0,
+                                        "a check for tests and tools: count the pieces of the muscle outside the bones "
+                                        "every frame on a grid of this cell (outputs pieces and stray_volume_mm3, and the "
+                                        "invariant pieces = 1); a field evaluation over the muscle's whole box, about "
+                                        "0.1–0.2 s a frame for each hip muscle at 2 mm; 0 = off",
+                                        PropertyRange{0.0, 100.0}};
   FibreSubcomponent fibre_settings{this};
   VolumeSubcomponent volume_settings{this};
   DescentSubcomponent descent_settings{this};
@@ -108,6 +116,11 @@ class RBFMuscle final : public Component {
                                 "length of the via-point (or straight) line of action, for comparison",
                                 [this] { return line_of_action_length_mm_; }};
   VectorOutput fibre_lengths_output_;
+  Output pieces_output_{this, "pieces", "1", "pieces of the muscle outside the bones (check_pieces_cell_mm; NaN when off)",
+                        [this] { return pieces_; }};
+  Output stray_volume_output_{this, "stray_volume_mm3", "mm^3",
+                              "volume of every piece but the largest (check_pieces_cell_mm; NaN when off)",
+                              [this] { return stray_volume_mm3_; }};
 
   std::unique_ptr<MusclePipeline> pipeline_;
   std::unique_ptr<MomentArms> moment_arms_;                   ///< null without moment_arms
@@ -124,6 +137,8 @@ class RBFMuscle final : public Component {
   std::vector<Eigen::Isometry3d> bone_motion_M_, path_motion_M_, X_MB_;  ///< per frame, reused
   double attached_kernels_ = 0.0;
   double line_of_action_length_mm_ = 0.0;
+  double pieces_ = std::numeric_limits<double>::quiet_NaN();
+  double stray_volume_mm3_ = std::numeric_limits<double>::quiet_NaN();
   Eigen::VectorXd no_fibres_;
 };
 

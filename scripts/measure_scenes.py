@@ -7,8 +7,10 @@ Each scene runs once through build/bin/rbfmuscle (no frame meshes), then its sum
 outputs.csv give, per muscle: the median wall time of a frame's update and of each stage, the
 volume ratio's range over the frames, the fibre length ratio at the first and last frame, the
 fibre length steps of more than 1 % between consecutive frames (fibre-frames, and the largest
-step), and the most fibre points left outside. Timings depend on the machine and its load: the
-table states the machine's core count and load.
+step), and the most fibre points left outside. A second run counts every muscle's pieces at
+every frame (check_pieces_cell_mm = 2, a grid check that would slow the first run's timings):
+the frames not in one piece and the largest volume outside the largest piece. Timings depend on
+the machine and its load: the table states the machine's core count and load.
 """
 import argparse
 import json
@@ -26,17 +28,31 @@ from run_outputs import read_outputs
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
 STAGES = ["contacts", "prediction", "descent", "volume", "fibres"]
+PIECE_CELL_MM = 2.0
+
+
+def run_host(scene, out, extra=()):
+    subprocess.run([HOST, "run", os.path.join(ROOT, "models", "hip", scene + ".xml"), "-o", out, "--quiet", *extra],
+                   check=True)
+    return read_outputs(out)
+
+
+def count_pieces(scene, muscles, out_root):
+    """Per muscle: frames not in one piece, and the largest stray volume (mm³), from a run with the check on."""
+    checks = [a for m in muscles for a in ("--set", f"{m}.check_pieces_cell_mm={PIECE_CELL_MM}")]
+    columns = run_host(scene, os.path.join(out_root, scene + "_pieces"), checks)
+    return {m: (int((np.array(columns[m + ".pieces"]) != 1).sum()), max(columns[m + ".stray_volume_mm3"]))
+            for m in muscles}
 
 
 def run_scene(scene, out_root):
     out = os.path.join(out_root, scene)
-    subprocess.run([HOST, "run", os.path.join(ROOT, "models", "hip", scene + ".xml"), "-o", out, "--quiet"],
-                   check=True)
+    columns = run_host(scene, out)
     with open(os.path.join(out, "summary.json")) as f:
         summary = json.load(f)
-    columns = read_outputs(out)
     column = lambda name: columns[name]
     muscles = sorted({h.split(".")[0] for h in columns if h.endswith(".volume_ratio")})
+    pieces = count_pieces(scene, muscles, out_root)
     figures = []
     for m in muscles:
         volume = column(m + ".volume_ratio")
@@ -52,16 +68,18 @@ def run_scene(scene, out_root):
             "fibre": (fibre[0], fibre[-1]),
             "steps": (int((steps > 0.01).sum()), float(steps.max()) if steps.size else 0.0),
             "outside": max(column(m + ".fibre_points_outside")),
+            "pieces": pieces[m],
         })
     return summary, figures
 
 
 def table(results):
     lines = [f"Measured by `scripts/measure_scenes.py` on a {os.cpu_count()}-core machine "
-             f"(load {os.getloadavg()[0]:.1f} when it ended); a frame updates the muscles in parallel.",
+             f"(load {os.getloadavg()[0]:.1f} when it ended); a frame updates the muscles in parallel. Pieces are "
+             f"counted on a {PIECE_CELL_MM:g} mm grid in a second run (`check_pieces_cell_mm`).",
              "",
-             "| scene | frame median (ms) | frames/s | muscle | update median (ms) | of it: contacts / prediction / descent / volume / fibres (ms) | volume ratio | fibre length ratio, first → last frame | fibre steps > 1 % between frames (largest) | fibre points outside |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "| scene | frame median (ms) | frames/s | muscle | update median (ms) | of it: contacts / prediction / descent / volume / fibres (ms) | volume ratio | fibre length ratio, first → last frame | fibre steps > 1 % between frames (largest) | fibre points outside | frames not in one piece (largest stray volume, mm³) |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for scene, (summary, figures) in results.items():
         median = summary["frame_wall_ms"]["median"]
         for i, f in enumerate(figures):
@@ -69,7 +87,8 @@ def table(results):
             lines.append(f"| {scene if i == 0 else ''} | {f'{median:.1f}' if i == 0 else ''} | "
                          f"{f'{1000.0 / median:.1f}' if i == 0 else ''} | {f['muscle']} | {f['update_ms']:.1f} | {stages} | "
                          f"{f['volume'][0]:.4f} – {f['volume'][1]:.4f} | {f['fibre'][0]:.3f} → {f['fibre'][1]:.3f} | "
-                         f"{f['steps'][0]} ({100.0 * f['steps'][1]:.2f} %) | {f['outside']:.0f} |")
+                         f"{f['steps'][0]} ({100.0 * f['steps'][1]:.2f} %) | {f['outside']:.0f} | "
+                         f"{f['pieces'][0]} ({f['pieces'][1]:.0f}) |")
     if "hip_flexion" in results and "hip_flexion_osim" in results:
         lines[0] += " " + axes_comparison(results["hip_flexion"][1], results["hip_flexion_osim"][1])
     return "\n".join(lines)

@@ -8,9 +8,10 @@
 /// fibre point inside, and no vertex of its tracked surface further from the previous frame's
 /// surface (its tracked mesh, or the vertex's own last place where that mesh lost triangles)
 /// than the femur moves there plus 1 mm; in flexion, adduction and gait also the gluteus's
-/// tracked surface in one piece (also the iliacus's in gait). Where a muscle lies on a bone its
-/// tracked vertices find no surface and their triangles are dropped, which cuts the tracked mesh
-/// of the iliacus and the psoas in flexion; the pieces are printed. The main job's flexion
+/// tracked surface and its volume (counted on a 2 mm grid, check_pieces_cell_mm) in one piece
+/// (also the iliacus's in gait). Where a muscle lies on a bone its tracked vertices find no
+/// surface and their triangles are dropped, which cuts the tracked mesh of the iliacus and the
+/// psoas in flexion; the pieces of both are printed for every muscle. The main job's flexion
 /// (0→80° in 1° frames) runs again in 10° frames, and the gluteus flexes on to 120°, with the
 /// same checks. In the main job also: the gluteus's fibres lengthen and the iliacus's and the
 /// psoas's shorten at every frame, the psoas to at most 0.93 of its rest length.
@@ -41,6 +42,8 @@ namespace {
 namespace fs = std::filesystem;
 const fs::path kHip = fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip";
 const std::vector<std::string> kMuscles = {"glmax_r", "iliacus_r", "psoas_r"};
+/// Grid cell of the pieces count (check_pieces_cell_mm): the rest surface's cell.
+constexpr double kPieceCellMm = 2.0;
 
 /// A bone for the checks: the exact distance, and a grid only to skip vertices far from it.
 struct Bone {
@@ -92,8 +95,9 @@ int countPieces(const FrameGeometry& g) {
 /// What a scene's check asserts beyond the every-frame checks, per muscle.
 struct SceneChecks {
   std::vector<std::string> muscles = kMuscles;                      ///< the muscles checked
-  /// tracked surface in one piece (where a muscle lies on a bone, its vertices there find no
-  /// surface and their triangles are dropped, which can cut the tracked mesh; see SurfaceStage)
+  /// tracked surface and volume in one piece (where a muscle lies on a bone, its tracked vertices
+  /// there find no surface and their triangles are dropped, which can cut the tracked mesh; see
+  /// SurfaceStage)
   std::vector<std::string> one_piece;
   std::vector<std::string> fibres_inside = kMuscles;                ///< every fibre point inside
   std::vector<std::string> fibres_monotone;  ///< the gluteus lengthens, the others shorten
@@ -219,7 +223,9 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
   const fs::path out = fs::path(RBFMUSCLE_BINARY_DIR) / "test_out/plugin" / tag;
   fs::remove_all(out);
   std::string moment_arms;
-  for (const std::string& muscle : checks.muscles) moment_arms += " --set " + muscle + ".moment_arms=hip_flexion_r";
+  for (const std::string& muscle : checks.muscles)
+    moment_arms += " --set " + muscle + ".moment_arms=hip_flexion_r --set " + muscle + ".check_pieces_cell_mm=" +
+                   std::to_string(kPieceCellMm);
   const test::HostResult result = test::runHost(
       "run '" + (kHip / (scene + ".xml")).string() + "' -o '" + out.string() + "' --motion '" + motion_path.string() +
           "' --quiet --frames-mesh" + moment_arms,
@@ -230,7 +236,10 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
   ASSERT_EQ(table.rows.size(), femur_motion.size());
   const SceneBones bones;
   for (const std::string& muscle : checks.muscles) {
-    double most_outside = 0.0;
+    double most_outside = 0.0, most_stray_mm3 = 0.0;
+    int most_volume_pieces = 0;
+    const size_t pieces_column = static_cast<size_t>(table.findColumn(muscle + ".pieces"));
+    const size_t stray_column = static_cast<size_t>(table.findColumn(muscle + ".stray_volume_mm3"));
     SurfaceWatch watch(bones);
     for (size_t row = 0; row < table.rows.size(); ++row) {
       most_outside = std::max(most_outside, checkOutputs(table, row, muscle, checks));
@@ -238,17 +247,21 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
           row > 0 ? femur_motion[row] * femur_motion[row - 1].inverse() : Eigen::Isometry3d::Identity();
       const int pieces = watch.addFrame(readFrame(out / "meshes", muscle, static_cast<int>(row)), static_cast<int>(row),
                                         femur_motion[row], femur_step);
+      const double volume_pieces = table.rows[row][pieces_column];
+      most_volume_pieces = std::max(most_volume_pieces, static_cast<int>(volume_pieces));
+      most_stray_mm3 = std::max(most_stray_mm3, table.rows[row][stray_column]);
       if (holds(checks.one_piece, muscle)) {
         EXPECT_EQ(pieces, 1) << muscle << "'s tracked surface at frame " << row;
+        EXPECT_EQ(volume_pieces, 1.0) << muscle << "'s volume at frame " << row;
       }
     }
     const int ratio = table.findColumn(muscle + ".fibre_length_ratio");
     std::printf("%s %s: deepest tracked vertex in a bone %.3f mm (frame %d); worst jump beyond the femur's move + 1 mm "
                 "%.3f mm (frame %d, first at %d); fibre length ratio at the last frame %.3f; most fibre points outside %.0f; most pieces of "
-                "the tracked surface %d\n",
+                "the tracked surface %d; most pieces of the volume %d (largest stray volume %.0f mm³)\n",
                 scene.c_str(), muscle.c_str(), watch.worst_depth, watch.worst_depth_frame, watch.worst_jump,
                 watch.worst_jump_frame, watch.first_jump_frame, ratio >= 0 ? table.rows.back()[static_cast<size_t>(ratio)] : NAN,
-                most_outside, watch.most_pieces);
+                most_outside, watch.most_pieces, most_volume_pieces, most_stray_mm3);
     EXPECT_LE(watch.worst_depth, 0.5) << muscle << " at frame " << watch.worst_depth_frame;
     if (checks.last_ratio_at_most.count(muscle)) {
       ASSERT_GE(ratio, 0);

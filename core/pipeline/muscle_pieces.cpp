@@ -1,0 +1,100 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "pipeline/muscle_pieces.h"
+
+#include "geometry/iso_surface.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace rbfmuscle {
+namespace {
+
+/// Union–find over grid nodes, with path halving.
+class NodeSets {
+ public:
+  explicit NodeSets(std::size_t count) : parent_(count) { std::iota(parent_.begin(), parent_.end(), std::int64_t{0}); }
+  std::int64_t find(std::int64_t v) {
+    while (parent_[static_cast<std::size_t>(v)] != v)
+      v = parent_[static_cast<std::size_t>(v)] = parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(v)])];
+    return v;
+  }
+  void join(std::int64_t a, std::int64_t b) { parent_[static_cast<std::size_t>(find(a))] = find(b); }
+
+ private:
+  std::vector<std::int64_t> parent_;
+};
+
+/// Where f can be > 0: the union of the cut-off boxes of the kernels with λ > 0 (elsewhere
+/// f ≤ b plus the negative kernels, and b ≤ 0).
+Eigen::AlignedBox3d findPositiveKernelBox(const DeformedField& field) {
+  Eigen::AlignedBox3d box;
+  for (int k = 0; k < field.getNumKernels(); ++k) {
+    if (field.getWeights()[k] <= 0.0) continue;
+    const Eigen::Vector3d half = field.calcHalfExtents(k), centre = field.getCentres().col(k);
+    box.extend(centre - half);
+    box.extend(centre + half);
+  }
+  return box;
+}
+
+}  // namespace
+
+MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
+  if (!(cell_mm > 0.0)) throw std::invalid_argument("countMusclePieces: cell " + std::to_string(cell_mm) + " mm; expected > 0");
+  if (state.field.getOffset() > 0.0)
+    throw std::invalid_argument("countMusclePieces: the field's offset is " + std::to_string(state.field.getOffset()) +
+                                " > 0, so f > 0 far from every kernel: the muscle is not bounded");
+  const Eigen::AlignedBox3d box = findPositiveKernelBox(state.field);
+  MusclePieces result;
+  if (box.isEmpty()) return result;
+  checkIsoSurfaceGrid(box, cell_mm);
+  const std::array<std::int64_t, 3> n = countIsoSurfaceNodes(box, cell_mm);
+  const std::int64_t layer = n[0] * n[1];
+  std::vector<char> inside(static_cast<std::size_t>(layer * n[2]), 0);
+  Eigen::Matrix3Xd points(3, layer);
+  Eigen::VectorXd values;
+  for (std::int64_t k = 0; k < n[2]; ++k) {
+    for (std::int64_t j = 0; j < n[1]; ++j)
+      for (std::int64_t i = 0; i < n[0]; ++i)
+        points.col(i + n[0] * j) = box.min() + cell_mm * Eigen::Vector3d(double(i), double(j), double(k));
+    state.field.calcValues(points, values);  // parallel
+    for (std::int64_t v = 0; v < layer; ++v) {
+      double g = values[v];
+      if (g > 0.0 && state.bones) {
+        const ClearanceSample s = state.bones->sample(points.col(v));
+        if (s.near) g = std::min(g, s.value_mm);
+      }
+      inside[static_cast<std::size_t>(v + layer * k)] = g > 0.0;
+    }
+  }
+  // The edges of the grid's tetrahedra from a node (iso_surface.h): the three axes, the three
+  // face diagonals and the cube diagonal, each towards +.
+  NodeSets sets(inside.size());
+  const auto id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + n[0] * (j + n[1] * k); };
+  for (std::int64_t k = 0; k < n[2]; ++k)
+    for (std::int64_t j = 0; j < n[1]; ++j)
+      for (std::int64_t i = 0; i < n[0]; ++i) {
+        if (!inside[static_cast<std::size_t>(id(i, j, k))]) continue;
+        for (int mask = 1; mask < 8; ++mask) {
+          const std::int64_t a = i + (mask & 1), b = j + ((mask >> 1) & 1), c = k + ((mask >> 2) & 1);
+          if (a < n[0] && b < n[1] && c < n[2] && inside[static_cast<std::size_t>(id(a, b, c))]) sets.join(id(i, j, k), id(a, b, c));
+        }
+      }
+  std::vector<std::int64_t> nodes_of_root(inside.size(), 0);
+  std::int64_t total = 0;
+  for (std::int64_t v = 0; v < static_cast<std::int64_t>(inside.size()); ++v)
+    if (inside[static_cast<std::size_t>(v)]) ++nodes_of_root[static_cast<std::size_t>(sets.find(v))], ++total;
+  std::int64_t largest = 0;
+  for (std::int64_t count : nodes_of_root)
+    if (count > 0) ++result.pieces, largest = std::max(largest, count);
+  const double node_mm3 = cell_mm * cell_mm * cell_mm;
+  result.largest_volume_mm3 = double(largest) * node_mm3;
+  result.stray_volume_mm3 = double(total - largest) * node_mm3;
+  return result;
+}
+
+}  // namespace rbfmuscle
