@@ -19,9 +19,8 @@
 
 #include <Eigen/Geometry>
 
-#include <limits>
-
 #include <functional>
+#include <limits>
 #include <memory>
 #include <vector>
 

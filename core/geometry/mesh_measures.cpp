@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "geometry/mesh_measures.h"
 
+#include "geometry/disjoint_sets.h"
+
 #include <algorithm>
-#include <numeric>
 #include <vector>
 
 namespace rbfmuscle {
@@ -32,23 +33,18 @@ namespace {
 
 /// Piece of every vertex (−1 for vertices no triangle uses), pieces numbered 0 … count − 1.
 std::vector<int> labelComponents(const TriangleMesh& mesh, int& count) {
-  std::vector<int> parent(static_cast<std::size_t>(mesh.countVertices()));
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto find = [&](int v) {
-    while (parent[v] != v) v = parent[v] = parent[parent[v]];
-    return v;
-  };
-  std::vector<char> used(parent.size(), 0);
+  DisjointSets sets(static_cast<std::size_t>(mesh.countVertices()));
+  std::vector<char> used(sets.size(), 0);
   for (int t = 0; t < mesh.countTriangles(); ++t)
     for (int c = 0; c < 3; ++c) {
       used[mesh.triangles(c, t)] = 1;
-      parent[find(mesh.triangles(c, t))] = find(mesh.triangles((c + 1) % 3, t));
+      sets.join(mesh.triangles(c, t), mesh.triangles((c + 1) % 3, t));
     }
-  std::vector<int> label(parent.size(), -1), root_label(parent.size(), -1);
+  std::vector<int> label(sets.size(), -1), root_label(sets.size(), -1);
   count = 0;
-  for (int v = 0; v < int(parent.size()); ++v) {
+  for (int v = 0; v < int(sets.size()); ++v) {
     if (!used[v]) continue;
-    const int r = find(v);
+    const int r = sets.find(v);
     if (root_label[r] < 0) root_label[r] = count++;
     label[v] = root_label[r];
   }

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <vector>
 
+#include "geometry/disjoint_sets.h"
 #include "geometry/mesh_edges.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/pinch_split.h"
@@ -81,22 +82,17 @@ void reduceSameVertexTriangles(const TriangleMesh& mesh, std::vector<char>& keep
 void removeDetachedShells(const TriangleMesh& mesh, const std::vector<char>& at_pinch, double fraction,
                           std::vector<char>& keep, MeshRepairReport& report) {
   const int T = mesh.countTriangles();
-  std::vector<int> parent(std::size_t(mesh.countVertices()));
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto find = [&](int v) {
-    while (parent[std::size_t(v)] != v) v = parent[std::size_t(v)] = parent[std::size_t(parent[std::size_t(v)])];
-    return v;
-  };
+  DisjointSets shells(std::size_t(mesh.countVertices()));
   for (int t = 0; t < T; ++t)
-    for (int c = 1; c < 3; ++c) parent[std::size_t(find(mesh.triangles(c, t)))] = find(mesh.triangles(0, t));
+    for (int c = 1; c < 3; ++c) shells.join(mesh.triangles(c, t), mesh.triangles(0, t));
   // Each shell's volume about one of its own vertices (a closed shell's volume does not depend
   // on the point; a near one keeps the round-off at the shell's own scale).
-  std::vector<double> six_volume(parent.size(), 0.0);
-  std::vector<int> triangles(parent.size(), 0);
-  std::vector<char> touches(parent.size(), 0);
+  std::vector<double> six_volume(shells.size(), 0.0);
+  std::vector<int> triangles(shells.size(), 0);
+  std::vector<char> touches(shells.size(), 0);
   double total = 0.0;
   for (int t = 0; t < T; ++t) {
-    const int root = find(mesh.triangles(0, t));
+    const int root = shells.find(mesh.triangles(0, t));
     const Eigen::Vector3d o = mesh.vertices_mm.col(root);
     const double v = (mesh.getCorner(t, 0) - o).dot((mesh.getCorner(t, 1) - o).cross(mesh.getCorner(t, 2) - o));
     six_volume[std::size_t(root)] += v;
@@ -105,11 +101,11 @@ void removeDetachedShells(const TriangleMesh& mesh, const std::vector<char>& at_
     for (int c = 0; c < 3; ++c) touches[std::size_t(root)] |= at_pinch[std::size_t(mesh.triangles(c, t))];
   }
   int largest = -1;
-  for (std::size_t r = 0; r < parent.size(); ++r)
+  for (std::size_t r = 0; r < shells.size(); ++r)
     if (triangles[r] > 0 && (largest < 0 || std::abs(six_volume[r]) > std::abs(six_volume[std::size_t(largest)])))
       largest = int(r);
-  std::vector<char> remove(parent.size(), 0);
-  for (std::size_t r = 0; r < parent.size(); ++r) {
+  std::vector<char> remove(shells.size(), 0);
+  for (std::size_t r = 0; r < shells.size(); ++r) {
     if (triangles[r] == 0 || !touches[r] || int(r) == largest) continue;
     if (!(std::abs(six_volume[r]) <= fraction * std::abs(total))) continue;
     remove[r] = 1;
@@ -118,7 +114,7 @@ void removeDetachedShells(const TriangleMesh& mesh, const std::vector<char>& at_
     report.removed_shell_volume_mm3 += six_volume[r] / 6.0;
   }
   for (int t = 0; t < T; ++t)
-    if (remove[std::size_t(find(mesh.triangles(0, t)))]) keep[std::size_t(t)] = 0;
+    if (remove[std::size_t(shells.find(mesh.triangles(0, t)))]) keep[std::size_t(t)] = 0;
 }
 
 /// Where a removed shell took the original of a split vertex, the copy still in use goes back

@@ -5,6 +5,7 @@
 #include <numeric>
 #include <utility>
 
+#include "geometry/disjoint_sets.h"
 #include "geometry/mesh_edges.h"
 
 namespace rbfmuscle::detail {
@@ -91,11 +92,6 @@ class SidePairing {
   std::vector<int> sides_;
 };
 
-int findRoot(std::vector<int>& parent, int x) {
-  while (parent[std::size_t(x)] != x) x = parent[std::size_t(x)] = parent[std::size_t(parent[std::size_t(x)])];
-  return x;
-}
-
 }  // namespace
 
 PinchSplit splitPinches(TriangleMesh& mesh) {
@@ -125,22 +121,21 @@ PinchSplit splitPinches(TriangleMesh& mesh) {
   }
 
   // Corners 3t + c round one vertex are in one fan when joined across paired edges.
-  std::vector<int> parent(3 * std::size_t(T));
-  std::iota(parent.begin(), parent.end(), 0);
+  DisjointSets corners(3 * std::size_t(T));
   const std::vector<int>& mate = pairing.mates();
   for (int s = 0; s < 3 * T; ++s) {
     const int m = mate[std::size_t(s)];
     if (m < s) continue;  // each pair once (every side is paired here)
     const int t = s / 3, c = s % 3, u = m / 3, d = m % 3;
     // Side s runs a → b over corners c, c+1 of t; side m runs b → a over corners d, d+1 of u.
-    parent[std::size_t(findRoot(parent, 3 * t + c))] = findRoot(parent, 3 * u + (d + 1) % 3);
-    parent[std::size_t(findRoot(parent, 3 * t + (c + 1) % 3))] = findRoot(parent, 3 * u + d);
+    corners.join(3 * t + c, 3 * u + (d + 1) % 3);
+    corners.join(3 * t + (c + 1) % 3, 3 * u + d);
   }
-  std::vector<int> index_of_fan(parent.size(), -1), fans(std::size_t(V), 0);
+  std::vector<int> index_of_fan(corners.size(), -1), fans(std::size_t(V), 0);
   std::vector<int>& copy_of = result.copy_of;
   Eigen::Matrix3Xi triangles = mesh.triangles;
   for (int k = 0; k < 3 * T; ++k) {
-    const int root = findRoot(parent, k), v = mesh.triangles(k % 3, k / 3);
+    const int root = corners.find(k), v = mesh.triangles(k % 3, k / 3);
     int& index = index_of_fan[std::size_t(root)];
     if (index < 0) {
       index = fans[std::size_t(v)]++ == 0 ? v : V + int(copy_of.size());

@@ -1,32 +1,18 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "pipeline/muscle_pieces.h"
 
+#include "geometry/disjoint_sets.h"
 #include "geometry/iso_surface.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
-#include <numeric>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace rbfmuscle {
 namespace {
-
-/// Union–find over grid nodes, with path halving.
-class NodeSets {
- public:
-  explicit NodeSets(std::size_t count) : parent_(count) { std::iota(parent_.begin(), parent_.end(), std::int64_t{0}); }
-  std::int64_t find(std::int64_t v) {
-    while (parent_[static_cast<std::size_t>(v)] != v)
-      v = parent_[static_cast<std::size_t>(v)] = parent_[static_cast<std::size_t>(parent_[static_cast<std::size_t>(v)])];
-    return v;
-  }
-  void join(std::int64_t a, std::int64_t b) { parent_[static_cast<std::size_t>(find(a))] = find(b); }
-
- private:
-  std::vector<std::int64_t> parent_;
-};
 
 /// Where f can be > 0: the union of the cut-off boxes of the kernels with λ > 0 (elsewhere
 /// f ≤ b plus the negative kernels, and b ≤ 0).
@@ -72,9 +58,10 @@ MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
     }
   }
   // The edges of the grid's tetrahedra from a node (iso_surface.h): the three axes, the three
-  // face diagonals and the cube diagonal, each towards +.
-  NodeSets sets(inside.size());
-  const auto id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return i + n[0] * (j + n[1] * k); };
+  // face diagonals and the cube diagonal, each towards +. Node ids fit an int: the grid has at
+  // most 10⁹ nodes (checkIsoSurfaceGrid).
+  DisjointSets sets(inside.size());
+  const auto id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return static_cast<int>(i + n[0] * (j + n[1] * k)); };
   for (std::int64_t k = 0; k < n[2]; ++k)
     for (std::int64_t j = 0; j < n[1]; ++j)
       for (std::int64_t i = 0; i < n[0]; ++i) {
@@ -86,7 +73,7 @@ MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
       }
   std::vector<std::int64_t> nodes_of_root(inside.size(), 0);
   std::int64_t total = 0;
-  for (std::int64_t v = 0; v < static_cast<std::int64_t>(inside.size()); ++v)
+  for (int v = 0; v < static_cast<int>(inside.size()); ++v)
     if (inside[static_cast<std::size_t>(v)]) ++nodes_of_root[static_cast<std::size_t>(sets.find(v))], ++total;
   std::int64_t largest = 0;
   for (std::int64_t count : nodes_of_root)

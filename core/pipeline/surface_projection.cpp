@@ -12,7 +12,7 @@ void checkSurfaceSettings(const SurfaceSettings& s) {
     throw std::invalid_argument("SurfaceSettings: need newton_steps >= 1, max_exit_steps >= 1, tolerance > 0, max_step_mm > 0");
 }
 
-FieldSample projectByNewton(const ImplicitField& g, FieldSample at, Eigen::Vector3d& p, const SurfaceSettings& settings) {
+FieldSample projectByNewton(const ImplicitField& f, FieldSample at, Eigen::Vector3d& p, const SurfaceSettings& settings) {
   for (int step = 0; step < settings.newton_steps && std::abs(at.value) > settings.tolerance; ++step) {
     const double n2 = at.gradient.squaredNorm();
     if (!(n2 > 1e-24)) break;
@@ -21,7 +21,7 @@ FieldSample projectByNewton(const ImplicitField& g, FieldSample at, Eigen::Vecto
     if (length > settings.max_step_mm) delta *= settings.max_step_mm / length;
     bool lowered = false;
     for (int halving = 0; halving < 8 && !lowered; ++halving, delta *= 0.5) {
-      const FieldSample trial = g.calcSample(p + delta);
+      const FieldSample trial = f.calcSample(p + delta);
       if (std::abs(trial.value) < std::abs(at.value)) {
         p += delta;
         at = trial;

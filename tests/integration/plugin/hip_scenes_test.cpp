@@ -31,6 +31,7 @@
 #include "framework/frame_geometry.h"
 #include "geometry/mesh_distance.h"
 #include "geometry/mesh_io.h"
+#include "geometry/mesh_measures.h"
 #include "model/motion.h"
 #include "model/skeleton.h"
 #include "model/storage_file.h"
@@ -70,26 +71,6 @@ FrameGeometry readFrame(const fs::path& meshes, const std::string& muscle, int f
   char file[32];
   std::snprintf(file, sizeof file, "_%05d.vtp", frame);
   return readVtp((meshes / (muscle + file)).string());
-}
-
-/// Pieces of the surface a frame mesh's triangles make (vertices joined by an edge).
-int countPieces(const FrameGeometry& g) {
-  std::vector<int> parent(static_cast<size_t>(g.vertices_mm.cols()));
-  for (size_t v = 0; v < parent.size(); ++v) parent[v] = static_cast<int>(v);
-  const auto find = [&](int v) {
-    while (parent[static_cast<size_t>(v)] != v) v = parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
-    return v;
-  };
-  for (Eigen::Index t = 0; t < g.triangles.cols(); ++t)
-    for (int c = 1; c < 3; ++c) parent[static_cast<size_t>(find(g.triangles(c, t)))] = find(g.triangles(0, t));
-  const std::vector<char> used = findUsed(g);
-  std::vector<char> is_root(parent.size(), 0);
-  int pieces = 0;
-  for (size_t v = 0; v < parent.size(); ++v) {
-    char& seen = is_root[static_cast<size_t>(find(static_cast<int>(v)))];
-    if (used[v] && !seen) seen = 1, ++pieces;
-  }
-  return pieces;
 }
 
 /// What a scene's check asserts beyond the every-frame checks, per muscle.
@@ -178,7 +159,10 @@ class SurfaceWatch {
   int addFrame(const FrameGeometry& g, int row, const Eigen::Isometry3d& femur_motion,
                const Eigen::Isometry3d& femur_step) {
     const std::vector<char> used = findUsed(g);
-    const int pieces = countPieces(g);
+    TriangleMesh surface;
+    surface.vertices_mm = g.vertices_mm;
+    surface.triangles = g.triangles;
+    const int pieces = countComponents(surface);  // of the surface the triangles make
     most_pieces = std::max(most_pieces, pieces);
     const Eigen::Isometry3d X_FG = femur_motion.inverse();
     for (Eigen::Index v = 0; v < g.vertices_mm.cols(); ++v) {
@@ -196,9 +180,6 @@ class SurfaceWatch {
       if (jump > worst_jump) worst_jump = jump, worst_jump_frame = row;
       if (jump > 0.0 && first_jump_frame < 0) first_jump_frame = row;
     }
-    TriangleMesh surface;
-    surface.vertices_mm = g.vertices_mm;
-    surface.triangles = g.triangles;
     previous_ = std::make_unique<MeshDistance>(std::move(surface), false);
     previous_used_ = used;
     previous_vertices_ = g.vertices_mm;
