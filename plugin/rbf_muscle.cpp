@@ -140,6 +140,11 @@ void RBFMuscle::initialize(const InitContext& context) {
     throw FrameworkError(e.what());
   }
 
+  if (const RestFibres* fibres = pipeline_->getRestFibres(); fibres && fibres->grid_refinements > 0)
+    std::fprintf(stderr,
+                 "%s: fibres routed on an interior grid of %.2f mm, refined %d times: the first split a part of "
+                 "the muscle thinner than its spacing\n",
+                 getName().c_str(), fibres->grid_spacing_mm, fibres->grid_refinements);
   makeLineOfAction(context, muscle.origin_area_M, muscle.insertion_area_M);
   makeMomentArmOutputs(skeleton);
   bone_motion_M_.assign(2, Eigen::Isometry3d::Identity());

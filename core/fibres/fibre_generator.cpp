@@ -56,20 +56,18 @@ double distanceToRegion(const Eigen::Vector3d& p, const Eigen::Matrix3Xd& region
   return std::sqrt((region.colwise() - p).colwise().squaredNorm().minCoeff());
 }
 
-/// N fibre ends spread over the attachment near `region` (file comment, step 2).
-std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& region, int count, double radius,
-                            double end_depth, const char* which, double& used_radius) {
-  if (region.cols() == 0 || !region.allFinite())
-    throw std::invalid_argument(std::string("generateFibres: the ") + which + " region needs ≥ 1 finite point");
+/// N fibre ends spread over the attachment near `region` (file comment, step 2), among the
+/// `allowed` nodes; `distance` holds each node's distance to the region (mm).
+std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& region, const Eigen::VectorXd& distance,
+                            const std::vector<char>& allowed, int count, double radius, double end_depth,
+                            const char* which, double& used_radius) {
   const Eigen::Index n = grid.nodes_mm.cols();
-  Eigen::VectorXd distance(n);
-  for (Eigen::Index a = 0; a < n; ++a) distance(a) = distanceToRegion(grid.nodes_mm.col(a), region);
   std::vector<int> candidates, deep;
   for (int growth = 0; growth <= 8; ++growth, radius *= 1.5) {
     candidates.clear();
     deep.clear();
     for (Eigen::Index a = 0; a < n; ++a)
-      if (distance(a) <= radius) {
+      if (allowed[static_cast<size_t>(a)] && distance(a) <= radius) {
         candidates.push_back(static_cast<int>(a));
         if (grid.values(a) >= end_depth) deep.push_back(static_cast<int>(a));
       }
@@ -110,6 +108,71 @@ std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& re
   }
   for (size_t i = chosen.size(); i < static_cast<size_t>(count); ++i) chosen.push_back(chosen[i % candidates.size()]);
   return chosen;
+}
+
+/// Each node's distance to the region (mm).
+Eigen::VectorXd calcDistancesToRegion(const InteriorGrid& grid, const Eigen::Matrix3Xd& region, const char* which) {
+  if (region.cols() == 0 || !region.allFinite())
+    throw std::invalid_argument(std::string("generateFibres: the ") + which + " region needs ≥ 1 finite point");
+  Eigen::VectorXd distance(grid.nodes_mm.cols());
+  for (Eigen::Index a = 0; a < distance.size(); ++a) distance(a) = distanceToRegion(grid.nodes_mm.col(a), region);
+  return distance;
+}
+
+/// The interior grid, the nodes of the piece the fibres run through and their distances to
+/// the two regions (file comment, step 1). @throws std::runtime_error when no piece reaches
+/// both regions on the finest grid.
+struct FibreGrid {
+  InteriorGrid grid;
+  std::vector<char> in_piece;
+  Eigen::VectorXd to_origin, to_insertion;
+  int refinements = 0;
+};
+
+FibreGrid makeFibreGrid(const GaussianField& field, const Eigen::Matrix3Xd& origin, const Eigen::Matrix3Xd& insertion,
+                        const FibreSettings& settings) {
+  for (int refinement = 0;; ++refinement) {
+    FibreGrid g;
+    g.refinements = refinement;
+    const long long nodes = static_cast<long long>(settings.grid_nodes) << refinement;
+    g.grid = makeInteriorGrid(field, settings.projection.margin_mm,
+                              static_cast<int>(std::min<long long>(nodes, std::numeric_limits<int>::max())));
+    g.to_origin = calcDistancesToRegion(g.grid, origin, "origin");
+    g.to_insertion = calcDistancesToRegion(g.grid, insertion, "insertion");
+    int count = 0;
+    const std::vector<int> piece = labelInteriorPieces(g.grid, count);
+    // A piece reaches a region when it comes as near as the whole inside, or within r.
+    const double reach_origin = std::max(settings.attachment_radius_mm, g.to_origin.minCoeff());
+    const double reach_insertion = std::max(settings.attachment_radius_mm, g.to_insertion.minCoeff());
+    std::vector<double> near_origin(static_cast<size_t>(count), std::numeric_limits<double>::infinity());
+    std::vector<double> near_insertion = near_origin;
+    std::vector<int> size(static_cast<size_t>(count), 0);
+    for (size_t a = 0; a < piece.size(); ++a) {
+      const size_t p = static_cast<size_t>(piece[a]);
+      near_origin[p] = std::min(near_origin[p], g.to_origin(static_cast<Eigen::Index>(a)));
+      near_insertion[p] = std::min(near_insertion[p], g.to_insertion(static_cast<Eigen::Index>(a)));
+      ++size[p];
+    }
+    int chosen = -1;
+    for (int p = 0; p < count; ++p)
+      if (near_origin[static_cast<size_t>(p)] <= reach_origin &&
+          near_insertion[static_cast<size_t>(p)] <= reach_insertion &&
+          (chosen < 0 || size[static_cast<size_t>(p)] > size[static_cast<size_t>(chosen)]))
+        chosen = p;
+    if (chosen >= 0) {
+      g.in_piece.resize(piece.size());
+      for (size_t a = 0; a < piece.size(); ++a) g.in_piece[a] = piece[a] == chosen;
+      return g;
+    }
+    if (refinement == kMaxGridRefinements) {
+      char text[160];
+      std::snprintf(text, sizeof text, "a grid of spacing %.3g mm (%lld nodes inside, in %d pieces)", g.grid.spacing_mm,
+                    static_cast<long long>(g.grid.nodes_mm.cols()), count);
+      throw std::runtime_error(std::string("generateFibres: no piece of the inside {f >= margin} reaches both the origin "
+                                           "and the insertion region, even on ") + text +
+                               ": the muscle is in pieces, or a part of it is thinner than that spacing");
+    }
+  }
 }
 
 /// Moves each end (3×N) up the field towards f = end_depth, by at most `max_move_mm` (file
@@ -205,14 +268,19 @@ void measureCoverage(const InteriorGrid& grid, RestFibres& fibres) {
 RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& origin_region_mm,
                           const Eigen::Matrix3Xd& insertion_region_mm, const FibreSettings& settings) {
   checkSettings(settings);
-  const InteriorGrid grid = makeInteriorGrid(field, settings.projection.margin_mm, settings.grid_nodes);
+  const FibreGrid fibre_grid = makeFibreGrid(field, origin_region_mm, insertion_region_mm, settings);
+  const InteriorGrid& grid = fibre_grid.grid;
   RestFibres fibres;
   fibres.count = settings.count;
   fibres.segments = settings.segments;
-  const std::vector<int> starts = chooseEnds(grid, origin_region_mm, settings.count, settings.attachment_radius_mm,
-                                             settings.end_depth, "origin", fibres.attachment_radius_origin_mm);
-  const std::vector<int> ends = chooseEnds(grid, insertion_region_mm, settings.count, settings.attachment_radius_mm,
-                                           settings.end_depth, "insertion", fibres.attachment_radius_insertion_mm);
+  fibres.grid_spacing_mm = grid.spacing_mm;
+  fibres.grid_refinements = fibre_grid.refinements;
+  const std::vector<int> starts =
+      chooseEnds(grid, origin_region_mm, fibre_grid.to_origin, fibre_grid.in_piece, settings.count,
+                 settings.attachment_radius_mm, settings.end_depth, "origin", fibres.attachment_radius_origin_mm);
+  const std::vector<int> ends =
+      chooseEnds(grid, insertion_region_mm, fibre_grid.to_insertion, fibre_grid.in_piece, settings.count,
+                 settings.attachment_radius_mm, settings.end_depth, "insertion", fibres.attachment_radius_insertion_mm);
   Eigen::Matrix3Xd p0(3, settings.count), p1(3, settings.count);
   for (int i = 0; i < settings.count; ++i) {
     p0.col(i) = grid.nodes_mm.col(starts[static_cast<size_t>(i)]);

@@ -5,7 +5,11 @@
 /// attachment to the insertion attachment through the volume {f > 0}.
 ///
 /// Method (deterministic, all in M, mm):
-///  1. the inside {f ≥ margin} is sampled on a regular grid (interior_grid.h);
+///  1. the inside {f ≥ margin} is sampled on a regular grid (interior_grid.h), and the fibres
+///     run through the piece of it that reaches both areas (as near as the whole inside does,
+///     or within r). Where a part of the muscle (a tendon) is thinner than the grid's spacing,
+///     the grid splits the inside there, so it is refined (twice the nodes, at most
+///     kMaxGridRefinements times) until one piece reaches both areas;
 ///  2. start candidates are the interior nodes within r of an origin region point
 ///     (r = attachment_radius_mm, grown ×1.5 only while there is none, cap 8: ends far
 ///     from their area move rigidly with its bone where the tissue does not);
@@ -59,6 +63,10 @@ inline constexpr double kMaxFibrePoints = 1e6;
 /// (hours) and is refused up front instead.
 inline constexpr double kMaxSpreadingPairs = 1e10;
 
+/// How many times generateFibres doubles the interior grid's nodes to join the two areas
+/// (8× the nodes, half the spacing).
+inline constexpr int kMaxGridRefinements = 3;
+
 struct FibreSettings;
 /// rounds·N²·(S−1): the point pairs the spreading push evaluates for these settings.
 double estimateSpreadingPairs(const FibreSettings& settings);
@@ -96,6 +104,8 @@ struct RestFibres {
   double attachment_radius_origin_mm = 0;     ///< r used at the origin after growth (mm)
   double attachment_radius_insertion_mm = 0;  ///< r used at the insertion after growth (mm)
   double end_climb_max_mm = 0;                ///< the most an end may climb off its grid node: half the spacing (mm)
+  double grid_spacing_mm = 0;  ///< spacing of the interior grid the fibres were routed on (mm)
+  int grid_refinements = 0;    ///< times that grid was refined to join the areas (step 1)
 };
 
 /// Generates the fibres (see file comment).
@@ -103,7 +113,8 @@ struct RestFibres {
 ///   attached centres), K₀ ≥ 1; `insertion_region_mm` the same for the insertion.
 /// @throws std::invalid_argument on bad settings (including more than kMaxFibrePoints points or
 ///   kMaxSpreadingPairs pair evaluations, checked before any work), empty or non-finite regions, or when no
-///   interior node lies near a region; std::runtime_error if the inside is disconnected.
+///   interior node lies near a region; std::runtime_error when no piece of the inside reaches
+///   both regions, even on the finest grid (step 1).
 RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& origin_region_mm,
                           const Eigen::Matrix3Xd& insertion_region_mm, const FibreSettings& settings = {});
 

@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "fibres/interior_grid.h"
 
+#include "geometry/disjoint_sets.h"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -91,6 +93,31 @@ InteriorGrid makeInteriorGrid(const GaussianField& field, double margin_mm, int 
         ++n;
       }
   return grid;
+}
+
+std::vector<int> labelInteriorPieces(const InteriorGrid& grid, int& count) {
+  const int n = static_cast<int>(grid.nodes_mm.cols());
+  DisjointSets sets(static_cast<size_t>(n));
+  // Each edge once: the 13 of the 26 neighbour offsets that come later in cell order.
+  for (int a = 0; a < n; ++a) {
+    const Eigen::Vector3i& cell = grid.cells[static_cast<size_t>(a)];
+    for (int dz = 0; dz <= 1; ++dz)
+      for (int dy = dz ? -1 : 0; dy <= 1; ++dy)
+        for (int dx = (dz || dy) ? -1 : 1; dx <= 1; ++dx) {
+          const Eigen::Vector3i q = cell + Eigen::Vector3i(dx, dy, dz);
+          if ((q.array() < 0).any() || (q.array() >= grid.dims.array()).any()) continue;
+          const int b = grid.node_of_cell[static_cast<size_t>(q.x() + grid.dims.x() * (q.y() + grid.dims.y() * q.z()))];
+          if (b >= 0) sets.join(a, b);
+        }
+  }
+  std::vector<int> label(static_cast<size_t>(n)), label_of_root(static_cast<size_t>(n), -1);
+  count = 0;
+  for (int a = 0; a < n; ++a) {
+    int& l = label_of_root[static_cast<size_t>(sets.find(a))];
+    if (l < 0) l = count++;
+    label[static_cast<size_t>(a)] = l;
+  }
+  return label;
 }
 
 std::vector<int> findShortestPath(const InteriorGrid& grid, int from, int to, double centre_preference) {

@@ -32,6 +32,10 @@ struct InteriorGrid {
 /// @throws std::invalid_argument if the field has no centre, target_nodes < 8, or no node is inside.
 InteriorGrid makeInteriorGrid(const GaussianField& field, double margin_mm, int target_nodes);
 
+/// The connected pieces of the grid's inside (26-neighbour edges, as findShortestPath walks):
+/// the piece of each node, numbered 0 … count − 1 in the order of their first nodes.
+std::vector<int> labelInteriorPieces(const InteriorGrid& grid, int& count);
+
 /// Shortest path between nodes `from` and `to` (Dijkstra over the 26-neighbour edges):
 /// edge cost ‖a − b‖ · (1 + c (1 − min(f̄, f_max)/f_max)), f̄ the mean of the two node
 /// values, f_max the largest node value, c = centre_preference ≥ 0 (c > 0 prefers deep

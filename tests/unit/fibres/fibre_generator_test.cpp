@@ -144,6 +144,67 @@ TEST(FibreGenerator, RegionAwayFromTheMuscleIsNamed) {
   EXPECT_THROW(generateFibres(field, test::rodOrigin(), test::rodInsertion(), s), std::invalid_argument);
 }
 
+TEST(InteriorGrid, PiecesAreTheSetsJoinedByTheEdgesFibresWalk) {
+  int count = 0;
+  const InteriorGrid rod = makeInteriorGrid(test::makeFibreRod(), 0.5, 6000);
+  const std::vector<int> rod_pieces = labelInteriorPieces(rod, count);
+  EXPECT_EQ(count, 1);
+  EXPECT_EQ(rod_pieces.size(), static_cast<size_t>(rod.nodes_mm.cols()));
+  const InteriorGrid halves = makeInteriorGrid(test::makeFibreDumbbell(0.0), 0.5, 6000);
+  const std::vector<int> half_pieces = labelInteriorPieces(halves, count);
+  ASSERT_EQ(count, 2);
+  for (Eigen::Index a = 0; a < halves.nodes_mm.cols(); ++a)  // numbered in node order: −x first
+    EXPECT_EQ(half_pieces[static_cast<size_t>(a)], halves.nodes_mm(0, a) < 0.0 ? 0 : 1) << a;
+}
+
+TEST(FibreGenerator, FibresCrossANeckThinnerThanTheGridOnARefinedGrid) {
+  const GaussianField field = test::makeFibreDumbbell(4.45);
+  const FibreSettings s = test::makeSmallFibreSettings();
+  int count = 0;
+  labelInteriorPieces(makeInteriorGrid(field, s.projection.margin_mm, s.grid_nodes), count);
+  ASSERT_GT(count, 1) << "the test needs a neck the first grid splits";
+  const RestFibres f = generateFibres(field, test::rodOrigin(), test::rodInsertion(), s);
+  EXPECT_GE(f.grid_refinements, 1);
+  EXPECT_LE(f.grid_refinements, kMaxGridRefinements);
+  EXPECT_LT(f.grid_spacing_mm, makeInteriorGrid(field, s.projection.margin_mm, s.grid_nodes).spacing_mm);
+  const int per = f.segments + 1;
+  for (int i = 0; i < f.count; ++i) {
+    EXPECT_LT(f.points_mm(0, i * per), -14.0) << i;  // from the origin's half …
+    EXPECT_GT(f.points_mm(0, i * per + f.segments), 14.0) << i;  // … to the insertion's
+  }
+  EXPECT_GT(f.min_value, 0.0) << "every point inside, through the neck too";
+}
+
+TEST(FibreGenerator, EndsLieInThePieceThatJoinsTheAreasNotInACrumbBesideAnArea) {
+  GaussianField field = test::makeFibreRod();
+  field.addCentre(Eigen::Vector3d(-45, 0, 0), 8.0, 0.25);  // a crumb beyond the rod's end
+  const Eigen::Vector3d origin(-40, 0, 0);
+  const FibreSettings s = test::makeSmallFibreSettings();
+  const InteriorGrid grid = makeInteriorGrid(field, s.projection.margin_mm, s.grid_nodes);
+  int count = 0;
+  const std::vector<int> pieces = labelInteriorPieces(grid, count);
+  ASSERT_EQ(count, 2);
+  bool crumb_near_origin = false;
+  for (Eigen::Index a = 0; a < grid.nodes_mm.cols(); ++a)
+    crumb_near_origin |= grid.nodes_mm(0, a) < -40.0 && (grid.nodes_mm.col(a) - origin).norm() <= s.attachment_radius_mm;
+  ASSERT_TRUE(crumb_near_origin) << "the test needs the crumb among the origin's candidates";
+  const RestFibres f = generateFibres(field, origin, test::rodInsertion(), s);
+  EXPECT_EQ(f.grid_refinements, 0);
+  for (int i = 0; i < f.count; ++i) EXPECT_GT(f.points_mm(0, i * (f.segments + 1)), -40.0) << i;
+  EXPECT_GT(f.min_value, 0.0);
+}
+
+TEST(FibreGenerator, AMuscleInTwoPiecesIsRefusedSayingWhy) {
+  try {
+    generateFibres(test::makeFibreDumbbell(0.0), test::rodOrigin(), test::rodInsertion(), test::makeSmallFibreSettings());
+    FAIL() << "expected an exception";
+  } catch (const std::runtime_error& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("reaches both the origin and the insertion"), std::string::npos) << what;
+    EXPECT_NE(what.find("in 2 pieces"), std::string::npos) << what;
+  }
+}
+
 /// The message of generateFibres with `settings` on the rod, and how long it took to fail (s).
 std::string generationError(const FibreSettings& settings, double& seconds) {
   const GaussianField field = test::makeFibreRod();

@@ -32,6 +32,32 @@ inline GaussianField makeFibreRod() {
   return GaussianField(-5.0, xi, lambda, alpha);
 }
 
+/// The rod's two ends (x = −30 … −15 and 15 … 30) joined by a neck of one row of narrow
+/// Gaussians (x = −14 … 14 at y = z = 0.5, 1 mm apart, α = 1 mm⁻², λ = neck_weight; none at
+/// 0): with λ = 4.45 the neck's inside {f ≥ 0.5} is about 1.3 mm across, and it runs between
+/// the nodes of a 6000-node interior grid (1.24 mm apart), which splits it.
+inline GaussianField makeFibreDumbbell(double neck_weight) {
+  const Eigen::Vector2d rows[] = {{0, 0}, {4, 0}, {-4, 0}, {0, 4}, {0, -4}};
+  std::vector<Eigen::Vector3d> xi;
+  std::vector<double> lambda, alpha;
+  for (const Eigen::Vector2d& row : rows)
+    for (double x : {-30.0, -25.0, -20.0, -15.0, 15.0, 20.0, 25.0, 30.0}) {
+      xi.emplace_back(x, row.x(), row.y());
+      lambda.push_back(2.5);
+      alpha.push_back(0.02);
+    }
+  if (neck_weight > 0.0)
+    for (int x = -14; x <= 14; ++x) {
+      xi.emplace_back(x, 0.5, 0.5);
+      lambda.push_back(neck_weight);
+      alpha.push_back(1.0);
+    }
+  Eigen::Matrix3Xd centres(3, static_cast<Eigen::Index>(xi.size()));
+  for (size_t k = 0; k < xi.size(); ++k) centres.col(static_cast<Eigen::Index>(k)) = xi[k];
+  return GaussianField(-5.0, centres, Eigen::Map<Eigen::VectorXd>(lambda.data(), static_cast<Eigen::Index>(lambda.size())),
+                       Eigen::Map<Eigen::VectorXd>(alpha.data(), static_cast<Eigen::Index>(alpha.size())));
+}
+
 /// Origin landmark (bone 0) and insertion landmark (bone 1) at the rod's ends (mm).
 inline Eigen::Matrix3Xd rodOrigin() { return Eigen::Vector3d(-32, 0, 0); }
 inline Eigen::Matrix3Xd rodInsertion() { return Eigen::Vector3d(32, 0, 0); }
