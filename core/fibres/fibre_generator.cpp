@@ -141,9 +141,9 @@ FibreGrid makeFibreGrid(const GaussianField& field, const Eigen::Matrix3Xd& orig
     g.to_insertion = calcDistancesToRegion(g.grid, insertion, "insertion");
     int count = 0;
     const std::vector<int> piece = labelInteriorPieces(g.grid, count);
-    // A piece reaches a region when it comes as near as the whole inside, or within r.
-    const double reach_origin = std::max(settings.attachment_radius_mm, g.to_origin.minCoeff());
-    const double reach_insertion = std::max(settings.attachment_radius_mm, g.to_insertion.minCoeff());
+    // A piece reaches a region when it comes within r of where the whole inside comes nearest.
+    const double reach_origin = g.to_origin.minCoeff() + settings.attachment_radius_mm;
+    const double reach_insertion = g.to_insertion.minCoeff() + settings.attachment_radius_mm;
     std::vector<double> near_origin(static_cast<size_t>(count), std::numeric_limits<double>::infinity());
     std::vector<double> near_insertion = near_origin;
     std::vector<int> size(static_cast<size_t>(count), 0);
