@@ -120,8 +120,7 @@ Eigen::VectorXd calcDistancesToRegion(const InteriorGrid& grid, const Eigen::Mat
 }
 
 /// The interior grid, the nodes of the piece the fibres run through and their distances to
-/// the two regions (file comment, step 1). @throws std::runtime_error when no piece reaches
-/// both regions on the finest grid.
+/// the two regions (file comment, step 1).
 struct FibreGrid {
   InteriorGrid grid;
   std::vector<char> in_piece;
@@ -129,6 +128,7 @@ struct FibreGrid {
   int refinements = 0;
 };
 
+/// @throws std::runtime_error when no piece reaches both regions on the finest grid.
 FibreGrid makeFibreGrid(const GaussianField& field, const Eigen::Matrix3Xd& origin, const Eigen::Matrix3Xd& insertion,
                         const FibreSettings& settings) {
   for (int refinement = 0;; ++refinement) {

@@ -7,9 +7,9 @@
 /// Method (deterministic, all in M, mm):
 ///  1. the inside {f ≥ margin} is sampled on a regular grid (interior_grid.h), and the fibres
 ///     run through the largest piece of it that reaches both areas (within r of the whole
-///     inside's nearest node to each). Where a part of the muscle (a tendon) is thinner than the grid's spacing,
-///     the grid splits the inside there, so it is refined (twice the nodes, at most
-///     kMaxGridRefinements times) until one piece reaches both areas;
+///     inside's nearest node to each). Where a part of the muscle (a tendon) is thinner than
+///     the grid's spacing, the grid splits the inside there, so it is refined (twice the
+///     nodes, at most kMaxGridRefinements times) until one piece reaches both areas;
 ///  2. start candidates are the interior nodes within r of an origin region point
 ///     (r = attachment_radius_mm, grown ×1.5 only while there is none, cap 8: ends far
 ///     from their area move rigidly with its bone where the tissue does not);

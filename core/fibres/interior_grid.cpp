@@ -38,6 +38,12 @@ bool touchesBorder(const Eigen::VectorXd& values, const Eigen::Vector3i& dims, d
   return false;
 }
 
+/// The node of `cell`, −1 when the cell is outside the grid or not inside the muscle.
+int findNode(const InteriorGrid& grid, const Eigen::Vector3i& cell) {
+  if ((cell.array() < 0).any() || (cell.array() >= grid.dims.array()).any()) return -1;
+  return grid.node_of_cell[static_cast<size_t>(cell.x() + grid.dims.x() * (cell.y() + grid.dims.y() * cell.z()))];
+}
+
 }  // namespace
 
 double InteriorGrid::calcVolume() const { return static_cast<double>(nodes_mm.cols()) * std::pow(spacing_mm, 3); }
@@ -104,9 +110,7 @@ std::vector<int> labelInteriorPieces(const InteriorGrid& grid, int& count) {
     for (int dz = 0; dz <= 1; ++dz)
       for (int dy = dz ? -1 : 0; dy <= 1; ++dy)
         for (int dx = (dz || dy) ? -1 : 1; dx <= 1; ++dx) {
-          const Eigen::Vector3i q = cell + Eigen::Vector3i(dx, dy, dz);
-          if ((q.array() < 0).any() || (q.array() >= grid.dims.array()).any()) continue;
-          const int b = grid.node_of_cell[static_cast<size_t>(q.x() + grid.dims.x() * (q.y() + grid.dims.y() * q.z()))];
+          const int b = findNode(grid, cell + Eigen::Vector3i(dx, dy, dz));
           if (b >= 0) sets.join(a, b);
         }
   }
@@ -144,9 +148,8 @@ std::vector<int> findShortestPath(const InteriorGrid& grid, int from, int to, do
     for (int dz = -1; dz <= 1; ++dz)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dx = -1; dx <= 1; ++dx) {
-          const Eigen::Vector3i q = cell + Eigen::Vector3i(dx, dy, dz);
-          if ((dx == 0 && dy == 0 && dz == 0) || (q.array() < 0).any() || (q.array() >= grid.dims.array()).any()) continue;
-          const int b = grid.node_of_cell[static_cast<size_t>(q.x() + grid.dims.x() * (q.y() + grid.dims.y() * q.z()))];
+          if (dx == 0 && dy == 0 && dz == 0) continue;
+          const int b = findNode(grid, cell + Eigen::Vector3i(dx, dy, dz));
           if (b < 0) continue;
           const double f_mean = 0.5 * (grid.values(a) + grid.values(b));
           const double w = grid.spacing_mm * std::sqrt(static_cast<double>(dx * dx + dy * dy + dz * dz)) *
