@@ -32,6 +32,18 @@ Eigen::Vector3d applyBlend(const double* w, const std::vector<DualQuaternion>& d
   return real * p + translation;
 }
 
+Eigen::Vector3d applyLinearBlend(const double* w, const std::vector<Eigen::Isometry3d>& motions,
+                                 const Eigen::Vector3d& p) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  double weight = 0.0;
+  for (size_t b = 0; b < motions.size(); ++b) {
+    if (w[b] == 0.0) continue;
+    sum += w[b] * (motions[b] * p);
+    weight += w[b];
+  }
+  return sum / weight;
+}
+
 DualQuaternion toDualQuaternion(const Eigen::Isometry3d& transform) {
   DualQuaternion dq;
   dq.real = Eigen::Quaterniond(transform.rotation()).normalized();

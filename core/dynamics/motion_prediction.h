@@ -36,4 +36,9 @@ Eigen::Isometry3d toIsometry(const DualQuaternion& dq);
 Eigen::Vector3d applyBlend(const double* weights, const std::vector<DualQuaternion>& transforms,
                            const Eigen::Vector3d& p_mm);
 
+/// The point p (mm) moved by the linear blend Σ_b w_b T_b p / Σ_b w_b of the bone motions: the
+/// point between its places on the bones, on their chord (the taut map, tissue_lattice.h).
+Eigen::Vector3d applyLinearBlend(const double* weights, const std::vector<Eigen::Isometry3d>& motions,
+                                 const Eigen::Vector3d& p_mm);
+
 }  // namespace rbfmuscle

@@ -35,8 +35,10 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
     : num_bones_(attachments.num_bones), settings_(settings), origin_mm_(origin_mm), cell_mm_(cell_mm) {
   if (!(cell_mm > 0.0) || !std::isfinite(cell_mm) || !origin_mm.allFinite())
     throw std::invalid_argument("TissueLattice: the spacing must be > 0 and the origin finite");
-  if (!(settings.max_thinning >= 1.0) || settings.smoothing_passes < 0 || !(settings.blend_length_mm > 0.0))
-    throw std::invalid_argument("TissueLattice: need max_thinning >= 1, smoothing_passes >= 0, blend_length_mm > 0");
+  if (!(settings.max_thinning >= 1.0) || settings.smoothing_passes < 0 || !(settings.blend_length_mm > 0.0) ||
+      !(settings.taut_stretch > 0.0) || !std::isfinite(settings.taut_stretch))
+    throw std::invalid_argument(
+        "TissueLattice: need max_thinning >= 1, smoothing_passes >= 0, blend_length_mm > 0, taut_stretch > 0");
   if (cover_mm.cols() == 0 || !cover_mm.allFinite())
     throw std::invalid_argument("TissueLattice: the points to cover must be finite and not empty");
   // Lattice box: the cover points' cells and their neighbours, corners included.
@@ -101,6 +103,18 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
     thin_directions_.resize(k);
     for (int n = 0; n < k; ++n)
       thin_directions_[n] = std::clamp(-differentiate(mid_vectors_mm, n).trace(), 1.0, 2.0);
+  }
+  if (num_bones_ == 2) {
+    // Step 4: the way the blend weight runs from bone 0 to bone 1, and how fast.
+    Eigen::Matrix3Xd weight_1(3, k);
+    for (int n = 0; n < k; ++n) weight_1.col(n).setConstant(node_weights_(1, n));
+    flow_.setZero(3, k);
+    flow_rate_.setZero(k);
+    for (int n = 0; n < k; ++n) {
+      const Eigen::Vector3d gradient = differentiate(weight_1, n).row(0).transpose();
+      flow_rate_[n] = gradient.norm();
+      if (flow_rate_[n] > 0.0) flow_.col(n) = gradient / flow_rate_[n];
+    }
   }
   update(std::vector<Eigen::Isometry3d>(static_cast<size_t>(num_bones_), Eigen::Isometry3d::Identity()));
 }
@@ -170,17 +184,32 @@ void TissueLattice::update(const std::vector<Eigen::Isometry3d>& bone_motion_M) 
   for (int n = 0; n < k; ++n) blended_mm_.col(n) = applyBlend(node_weights_.col(n).data(), transforms_, rest_nodes_mm_.col(n));
   blend_volume_changes_.resize(k);
   nodes_mm_ = blended_mm_;
-  const bool thin = anchor_vectors_mm_.cols() == k;
+  const bool thin = anchor_vectors_mm_.cols() == k, taut = flow_.cols() == k;
+  double stretch_sum = 0.0, rate_sum = 0.0;
   for (int n = 0; n < k; ++n) {
     const Eigen::Matrix3d d = differentiate(blended_mm_, n);
     const double j = d.determinant();
     blend_volume_changes_[n] = j;
+    if (taut) {
+      stretch_sum += flow_rate_[n] * (d * flow_.col(n)).norm();
+      rate_sum += flow_rate_[n];
+    }
     if (!thin) continue;
     const double t = j > 0.0 ? std::clamp(std::pow(j, -1.0 / thin_directions_[n]), 1.0 / settings_.max_thinning,
                                           settings_.max_thinning)
                              : settings_.max_thinning;  // a fold thickens as much as allowed
     nodes_mm_.col(n) -= (t - 1.0) * (d * anchor_vectors_mm_.col(n));
   }
+  // Step 4: the taut nodes, part of the way from the blend's arcs to its chords.
+  stretch_ = rate_sum > 0.0 ? stretch_sum / rate_sum : 1.0;
+  const double u = std::clamp((stretch_ - 1.0) / settings_.taut_stretch, 0.0, 1.0);
+  taut_fraction_ = u * u * (3.0 - 2.0 * u);
+  taut_nodes_mm_.resize(3, 0);
+  if (taut_fraction_ == 0.0) return;
+  taut_nodes_mm_ = nodes_mm_;
+  for (int n = 0; n < k; ++n)
+    taut_nodes_mm_.col(n) += taut_fraction_ * (applyLinearBlend(node_weights_.col(n).data(), motions_,
+                                                                rest_nodes_mm_.col(n)) - blended_mm_.col(n));
 }
 
 LatticeBinding TissueLattice::bind(const Eigen::Matrix3Xd& rest_mm, const std::vector<int>& rigid_bone) const {
@@ -216,16 +245,20 @@ LatticeBinding TissueLattice::bind(const Eigen::Matrix3Xd& rest_mm, const std::v
 }
 
 void TissueLattice::carry(const LatticeBinding& points, Eigen::Matrix3Xd& out) const {
-  carryPoints(points, out, nullptr);
+  carryPoints(points, nodes_mm_, out, nullptr);
 }
 
 void TissueLattice::carry(const LatticeBinding& points, Eigen::Matrix3Xd& out,
                           std::vector<Eigen::Matrix3d>& frames) const {
   frames.resize(static_cast<size_t>(points.size()));
-  carryPoints(points, out, &frames);
+  carryPoints(points, nodes_mm_, out, &frames);
 }
 
-void TissueLattice::carryPoints(const LatticeBinding& points, Eigen::Matrix3Xd& out,
+void TissueLattice::carryTaut(const LatticeBinding& points, Eigen::Matrix3Xd& out) const {
+  carryPoints(points, taut_fraction_ > 0.0 ? taut_nodes_mm_ : nodes_mm_, out, nullptr);
+}
+
+void TissueLattice::carryPoints(const LatticeBinding& points, const Eigen::Matrix3Xd& nodes_mm, Eigen::Matrix3Xd& out,
                                 std::vector<Eigen::Matrix3d>* frames) const {
   out.resize(3, points.size());
   for (int j = 0; j < points.size(); ++j) {
@@ -243,7 +276,7 @@ void TissueLattice::carryPoints(const LatticeBinding& points, Eigen::Matrix3Xd& 
     for (int corner = 0; corner < 8; ++corner) {
       const int a = corner & 1, b = (corner >> 1) & 1, e = (corner >> 2) & 1;
       const double wx = a ? u.x() : 1.0 - u.x(), wy = b ? u.y() : 1.0 - u.y(), wz = e ? u.z() : 1.0 - u.z();
-      const Eigen::Vector3d node = nodes_mm_.col(points.corners[jj][static_cast<size_t>(corner)]);
+      const Eigen::Vector3d node = nodes_mm.col(points.corners[jj][static_cast<size_t>(corner)]);
       y += (wx * wy * wz) * node;
       if (!frames) continue;
       const double sx = a ? 1.0 : -1.0, sy = b ? 1.0 : -1.0, sz = e ? 1.0 : -1.0;

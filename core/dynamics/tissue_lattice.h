@@ -25,6 +25,16 @@
 ///    over the carried lattice matches the field's.
 /// Points tied to a bone (attached kernels, fibre ends) move rigidly with it instead.
 /// A common rigid motion of all bones moves every node, and so every point, rigidly.
+/// 4. Taut map (for the fibres, two bones): the blend turns tissue between the bones about
+///    their joint, so a fibre keeps its distance from the joint like a string wound on a drum.
+///    A stretched muscle is taut and takes the chord instead: its stretch is the mean of
+///    |DΦ u| over the nodes, u = ∇w₁/|∇w₁| the way the blend weight runs from bone 0 to bone 1
+///    (weighted by |∇w₁|, where the blend bends the tissue); the taut fraction
+///    λ = smoothstep((stretch − 1) / taut_stretch) ∈ [0, 1]; and the taut nodes are
+///    y + λ (Σ_b w_b T_b x − Φ(x)), part of the way to the linear blend, whose points lie on
+///    the chords between their places on the two bones. A shortened muscle (λ = 0) keeps the
+///    map. The volume follows the map; only the fibres move towards the taut nodes
+///    (fibre_stage.h), as far as the muscle allows.
 #include "dynamics/attachment.h"
 #include "dynamics/motion_prediction.h"
 
@@ -56,6 +66,9 @@ struct LatticeSettings {
   /// The centre of the joint between the two bones (M, mm): blend weights by angle about it
   /// (calcJointAngleBlendWeights); none: by distance (calcBlendWeights, blend_length_mm, blend_power).
   std::optional<Eigen::Vector3d> joint_centre_mm;
+  /// Stretch beyond rest over which the taut fraction rises from 0 to 1 (step 4), > 0: 10 %;
+  /// 5 % or 20 % change the gluteus maximus's flexion moment arms by at most 1 mm (docs/moment_arms.md).
+  double taut_stretch = 0.1;
 };
 
 /// How much a muscle surface point with rest bone clearance s (mm) lies on the bone, for a
@@ -92,6 +105,12 @@ class TissueLattice {
   void carry(const LatticeBinding& points, Eigen::Matrix3Xd& out) const;
   /// Current positions and frames F (the map's gradient; the bone's rotation for tied points).
   void carry(const LatticeBinding& points, Eigen::Matrix3Xd& out, std::vector<Eigen::Matrix3d>& frames) const;
+  /// Current positions (3×P) of bound points by the taut map (step 4; the map itself when λ = 0).
+  void carryTaut(const LatticeBinding& points, Eigen::Matrix3Xd& out) const;
+  /// The muscle's stretch along its blend in the last update (step 4; 1 at rest, 1 with one bone).
+  double getStretch() const { return stretch_; }
+  /// λ of the last update (step 4), in [0, 1].
+  double getTautFraction() const { return taut_fraction_; }
 
   /// Lattice coordinates → whether node (i, j, k) is active, and its index.
   int findNode(const Eigen::Vector3i& ijk) const;
@@ -114,7 +133,8 @@ class TissueLattice {
 
  private:
   /// Positions of bound points and, when `frames` is given, their frames (see carry).
-  void carryPoints(const LatticeBinding& points, Eigen::Matrix3Xd& out, std::vector<Eigen::Matrix3d>* frames) const;
+  void carryPoints(const LatticeBinding& points, const Eigen::Matrix3Xd& nodes_mm, Eigen::Matrix3Xd& out,
+                   std::vector<Eigen::Matrix3d>* frames) const;
   /// Differences of `positions` at node n along the lattice axes (central where both
   /// neighbours are active, else one-sided, else the rest axis).
   Eigen::Matrix3d differentiate(const Eigen::Matrix3Xd& positions, int n) const;
@@ -137,6 +157,10 @@ class TissueLattice {
   Eigen::Matrix3Xd blended_mm_;           ///< Φ(x) per node
   Eigen::VectorXd blend_volume_changes_;
   Eigen::Matrix3Xd nodes_mm_;             ///< y per node
+  Eigen::Matrix3Xd flow_;                 ///< u = ∇w₁/|∇w₁| per node (step 4; empty unless B = 2)
+  Eigen::VectorXd flow_rate_;             ///< |∇w₁| per node (1/mm)
+  double stretch_ = 1.0, taut_fraction_ = 0.0;
+  Eigen::Matrix3Xd taut_nodes_mm_;        ///< y + λ (linear blend − Φ) per node (empty when λ = 0)
 };
 
 }  // namespace rbfmuscle

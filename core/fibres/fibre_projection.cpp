@@ -101,6 +101,28 @@ double placeBetweenInsideNeighbours(const ImplicitField& field, const Projection
   return projectInside(field, settings, p_mm).value;
 }
 
+Eigen::Vector3d advanceInside(const ImplicitField& field, const ProjectionSettings& settings,
+                              const Eigen::Vector3d& from_mm, const Eigen::Vector3d& to_mm) {
+  checkProjectionSettings(settings);
+  if (!(field.calcValue(from_mm) >= settings.margin_mm)) return from_mm;
+  const Eigen::Vector3d step = to_mm - from_mm;
+  const int samples = std::max(1, static_cast<int>(std::ceil(step.norm() / settings.max_step_mm)));
+  double inside = 0.0;  // fraction of the step known inside
+  for (int k = 1; k <= samples; ++k) {
+    const double t = static_cast<double>(k) / samples;
+    if (field.calcValue(from_mm + t * step) < settings.margin_mm) {
+      double outside = t;
+      for (int h = 0; h < settings.max_halvings; ++h) {
+        const double middle = 0.5 * (inside + outside);
+        (field.calcValue(from_mm + middle * step) >= settings.margin_mm ? inside : outside) = middle;
+      }
+      return from_mm + inside * step;
+    }
+    inside = t;
+  }
+  return to_mm;
+}
+
 void calcFibreLengths(const Eigen::Matrix3Xd& points_mm, int segments, Eigen::VectorXd& out) {
   if (segments < 1) throw std::invalid_argument("calcFibreLengths: segments must be ≥ 1, got " + std::to_string(segments));
   const Eigen::Index per = segments + 1;

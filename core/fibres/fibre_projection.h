@@ -31,7 +31,8 @@ struct ProjectionSettings {
   /// change continuously with the pose (aiming at 2·margin moved such a point half a
   /// margin at once, and made the moment arms of the iliacus and psoas twice as rough).
   double margin_mm = 0.5;
-  /// Largest move of one step (mm), > 0: bounds the Newton step where ∇f is small.
+  /// Largest move of one step (mm), > 0: bounds the Newton step where ∇f is small; also the
+  /// largest spacing of advanceInside's samples.
   double max_step_mm = 1.0;
   /// Accepted-step cap per point, ≥ 1 (the total move is ≤ max_steps · max_step_mm).
   int max_steps = 30;
@@ -82,6 +83,15 @@ ProjectionResult projectInside(const ImplicitField& field, const ProjectionSetti
 double placeBetweenInsideNeighbours(const ImplicitField& field, const ProjectionSettings& settings,
                                     const Eigen::Vector3d& a_mm, const Eigen::Vector3d& b_mm, double t,
                                     Eigen::Vector3d& p_mm, int samples = 20);
+
+/// The point of the segment from `from_mm` to `to_mm` just before the segment first leaves
+/// {f ≥ margin}: `to_mm` when it never does, `from_mm` when it starts outside. The segment is
+/// sampled at most max_step_mm apart, and the first sample outside is bisected against the last
+/// inside max_halvings times. Taking the first exit, not any inside sample beyond, keeps the
+/// result continuous as the ends move (but where the segment grazes the surface).
+/// @throws std::invalid_argument on bad settings.
+Eigen::Vector3d advanceInside(const ImplicitField& field, const ProjectionSettings& settings,
+                              const Eigen::Vector3d& from_mm, const Eigen::Vector3d& to_mm);
 
 /// Checks the settings. @throws std::invalid_argument naming the bad value.
 void checkProjectionSettings(const ProjectionSettings& settings);

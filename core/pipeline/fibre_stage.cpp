@@ -28,6 +28,21 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
   Eigen::Matrix3Xd& points = state.fibre_points_mm;
   lattice_->carry(binding_, points);
   const int per = rest_.segments + 1, segments = rest_.segments;
+  // 0. A taut muscle's interior fibre points move towards the taut map's chords, as far as the
+  // muscle allows. The whole field: a point can end several mm from its rest kernels.
+  const double taut_fraction = lattice_->getTautFraction();
+  double taut_move = 0.0;
+  if (taut_fraction > 0.0) {
+    lattice_->carryTaut(binding_, taut_mm_);
+    const MuscleShape shape(state);
+    for (Eigen::Index c = 0; c < points.cols(); ++c) {
+      const int j = static_cast<int>(c % per);
+      if (j == 0 || j == segments) continue;
+      const Eigen::Vector3d p = advanceInside(shape, projection_, points.col(c), taut_mm_.col(c));
+      taut_move = std::max(taut_move, (p - points.col(c)).norm());
+      points.col(c) = p;
+    }
+  }
   values_.resize(points.cols());
   int projected = 0;
   double end_offset = 0.0;
@@ -68,7 +83,8 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
   calcFibreLengths(points, segments, lengths_mm_);
   const double mean = lengths_mm_.mean();
   report_ = Report{mean, lengths_mm_.minCoeff(), lengths_mm_.maxCoeff(), mean / rest_mean_mm_,
-                   static_cast<double>(projected), static_cast<double>((values_.array() <= 0.0).count()), end_offset};
+                   static_cast<double>(projected), static_cast<double>((values_.array() <= 0.0).count()), end_offset,
+                   taut_fraction, taut_move};
 }
 
 }  // namespace rbfmuscle

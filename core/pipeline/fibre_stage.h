@@ -12,10 +12,14 @@
 namespace rbfmuscle {
 
 /// Carries the rest fibres by the tissue map (their ends rigid with the origin and
-/// insertion bones), then pushes every point below the margin back inside the muscle
-/// min(f, s) by a monotone ascent (fibre_projection.h): where the muscle lies on a bone, a
-/// fibre point the map carried into the bone comes out along the bone's surface, so the
-/// fibres slide over the bone rather than follow the map into it. Reports the lengths.
+/// insertion bones). Where the muscle is stretched, its fibres are taut: each interior point
+/// inside the muscle moves towards its place in the taut map (tissue_lattice.h, step 4, the
+/// chords between the bones instead of arcs about their joint) until it would leave the muscle
+/// min(f, s), so a taut fibre straightens within the muscle and lies on a bone it meets. Then
+/// every point below the margin is pushed back inside by a monotone ascent
+/// (fibre_projection.h): where the muscle lies on a bone, a fibre point the map carried into
+/// the bone comes out along the bone's surface, so the fibres slide over the bone rather than
+/// follow the map into it. Reports the lengths.
 class FibreStage final : public FrameStage {
  public:
   /// @param rest the rest fibres (M, mm)  @param rest_field the rest field (point lists)
@@ -26,6 +30,7 @@ class FibreStage final : public FrameStage {
   struct Report {
     double mean_mm = kNaN, min_mm = kNaN, max_mm = kNaN, ratio = kNaN;
     double projected = kNaN, outside = kNaN, end_offset_max_mm = kNaN;
+    double taut_fraction = kNaN, taut_move_max_mm = kNaN;
   };
   static constexpr ReportEntry<Report> kReport[] = {
       {"fibre_length_mean_mm", "mm", "mean fibre length", &Report::mean_mm},
@@ -37,6 +42,9 @@ class FibreStage final : public FrameStage {
        &Report::outside},
       {"fibre_end_offset_max_mm", "mm", "largest move of a fibre end off its place on its bone",
        &Report::end_offset_max_mm},
+      {"fibre_taut_fraction", "1", "how far the fibres go from the blend's arcs to its chords (0: a muscle not stretched)",
+       &Report::taut_fraction},
+      {"fibre_taut_move_max_mm", "mm", "largest move of a fibre point towards its chord", &Report::taut_move_max_mm},
   };
 
   void run(MuscleState& state, const FrameInput& input) override;
@@ -53,6 +61,7 @@ class FibreStage final : public FrameStage {
   LatticeBinding binding_;
   NeighbourLists lists_;
   double rest_mean_mm_ = 0.0;
+  Eigen::Matrix3Xd taut_mm_;
   Eigen::VectorXd values_, lengths_mm_;
   Report report_;
 };

@@ -14,7 +14,8 @@
 /// psoas in flexion; the pieces of both are printed for every muscle. The main job's flexion
 /// (0→80° in 1° frames) runs again in 10° frames, and the gluteus flexes on to 120°, with the
 /// same checks. In the main job also: the gluteus's fibres lengthen and the iliacus's and the
-/// psoas's shorten at every frame, the psoas to at most 0.93 of its rest length.
+/// psoas's shorten at every frame, the psoas to at most 0.93 of its rest length, and the
+/// gluteus's hip flexion moment arm falls from 40° to 60° (also in 10° frames), as measured.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -86,7 +87,25 @@ struct SceneChecks {
   std::vector<std::string> flexion_sign = kMuscles;
   /// the largest fibre length ratio allowed at the last frame, per muscle
   std::map<std::string, double> last_ratio_at_most;
+  /// the hip flexion moment arm's magnitude falls from 40° to 60° of flexion, as measured for the
+  /// gluteus maximus (models/reference: Németh & Ohlsén 1985, 62 → 51 mm)
+  std::vector<std::string> arm_falls_from_40_to_60;
 };
+
+/// The muscle's hip flexion moment arm at the row whose flexion is nearest `degrees`.
+double calcArmAtFlexion(const StorageTable& table, const std::string& muscle, double degrees) {
+  const int q = table.findColumn("hip_flexion_r"), arm = table.findColumn(muscle + ".moment_arm_hip_flexion_r_mm");
+  EXPECT_GE(q, 0);
+  EXPECT_GE(arm, 0);
+  if (q < 0 || arm < 0) return NAN;
+  size_t best = 0;
+  for (size_t row = 0; row < table.rows.size(); ++row)
+    if (std::abs(table.rows[row][static_cast<size_t>(q)] - degrees * M_PI / 180.0) <
+        std::abs(table.rows[best][static_cast<size_t>(q)] - degrees * M_PI / 180.0))
+      best = row;
+  EXPECT_NEAR(table.rows[best][static_cast<size_t>(q)], degrees * M_PI / 180.0, 1e-6) << "no frame at " << degrees << "°";
+  return table.rows[best][static_cast<size_t>(arm)];
+}
 
 /// Sign of each muscle's hip flexion moment arm (OpenSim's: + when the muscle shortens as the
 /// hip flexes) that every source of models/reference agrees on: the gluteus maximus extends the
@@ -249,6 +268,10 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
       EXPECT_LE(table.rows.back()[static_cast<size_t>(ratio)], checks.last_ratio_at_most.at(muscle)) << muscle;
     }
     EXPECT_LE(watch.worst_jump, 0.0) << muscle << " at frame " << watch.worst_jump_frame;
+    if (holds(checks.arm_falls_from_40_to_60, muscle)) {
+      const double at_40 = calcArmAtFlexion(table, muscle, 40.0), at_60 = calcArmAtFlexion(table, muscle, 60.0);
+      EXPECT_LT(std::abs(at_60), std::abs(at_40)) << muscle << "'s hip flexion moment arm at 40° and 60°";
+    }
   }
   fs::remove_all(out);
 }
@@ -258,6 +281,7 @@ TEST(HipScenes, FlexionKeepsVolumeAndTheMusclesOutOfTheBonesTheirFibresChangeLen
   checks.fibres_monotone = kMuscles;
   checks.one_piece = {"glmax_r"};
   checks.last_ratio_at_most = {{"psoas_r", 0.93}};
+  checks.arm_falls_from_40_to_60 = {"glmax_r"};
   checkScene("hip_flexion", "hip_flexion_0_80.mot", checks);
 }
 
@@ -265,6 +289,7 @@ TEST(HipScenes, FlexionIn10DegreeFramesKeepsVolumeAndTheMusclesOutOfTheBonesWith
   SceneChecks checks;
   checks.fibres_monotone = kMuscles;
   checks.one_piece = {"glmax_r"};
+  checks.arm_falls_from_40_to_60 = {"glmax_r"};
   checkScene("hip_flexion", "hip_flexion_0_80_step10.mot", checks);
 }
 

@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 namespace rbfmuscle {
 namespace {
 
@@ -48,6 +50,21 @@ TEST(MotionPrediction, BlendIsRigidAndInterpolatesTheEnds) {
   const Eigen::Isometry3d expected = test::makeRotationAbout(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.7);
   EXPECT_TRUE(test::isApprox(half.matrix(), expected.matrix(), 1e-12));
   EXPECT_TRUE(test::isApprox(blendAsIsometry(Eigen::Vector2d(0, 1), dqs).matrix(), b.matrix(), 1e-12));
+}
+
+TEST(MotionPrediction, LinearBlendPutsThePointOnTheChordOfItsPlacesOnTheBones) {
+  const std::vector<Eigen::Isometry3d> motions = {
+      Eigen::Isometry3d::Identity(), test::makeRotationAbout(Eigen::Vector3d(0, -30, 0), Eigen::Vector3d::UnitZ(), 1.4)};
+  const Eigen::Vector3d p(10, 20, 5);
+  const Eigen::Vector3d on_1 = motions[1] * p;
+  const double weights[2] = {0.25, 0.75};
+  EXPECT_TRUE(test::isApprox(applyLinearBlend(weights, motions, p), 0.25 * p + 0.75 * on_1, 1e-12));
+  // Half-way, at cos(0.7) of the distance from the joint's axis, where the dual-quaternion blend keeps it.
+  const double half[2] = {0.5, 0.5};
+  const Eigen::Vector3d radial = Eigen::Vector3d(10, 50, 0);
+  EXPECT_NEAR((applyLinearBlend(half, motions, p) - Eigen::Vector3d(0, -30, 5)).norm(), std::cos(0.7) * radial.norm(), 1e-9);
+  const std::vector<DualQuaternion> dqs = {toDualQuaternion(motions[0]), toDualQuaternion(motions[1])};
+  EXPECT_NEAR((applyBlend(half, dqs, p) - Eigen::Vector3d(0, -30, 5)).norm(), radial.norm(), 1e-9);
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -177,6 +178,32 @@ TEST(PlaceBetweenInsideNeighbours, AnInsideChordPointOnlyMovesUp) {
   const double f = placeBetweenInsideNeighbours(rod, ProjectionSettings{}, a, b, 0.5, p);
   EXPECT_TRUE(p.isApprox(Eigen::Vector3d(0, 0.2, 0), 1e-12));  // f(chord point) ≥ margin: kept
   EXPECT_NEAR(f, rod.calcValue(p), 1e-12);
+}
+
+/// Two balls of radius 10 mm, centred at x = 0 and x = 25 (f = 10 − distance to the nearer centre).
+struct TwoBalls final : ImplicitField {
+  double calcValue(const Eigen::Vector3d& p) const override {
+    return 10.0 - std::min(p.norm(), (p - Eigen::Vector3d(25, 0, 0)).norm());
+  }
+  Eigen::Vector3d calcGradient(const Eigen::Vector3d&) const override { return Eigen::Vector3d::Zero(); }
+};
+
+TEST(AdvanceInside, StopsWhereTheSegmentFirstLeavesTheMuscle) {
+  const TwoBalls balls;
+  const ProjectionSettings settings;  // margin 0.5, samples 1 mm apart, 10 halvings
+  const Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  // Towards the other ball: the first exit (x = 9.5), not the inside beyond the gap.
+  const Eigen::Vector3d first_exit = advanceInside(balls, settings, centre, Eigen::Vector3d(25, 0, 0));
+  EXPECT_NEAR(first_exit.x(), 9.5, 1.0 / 1024);
+  EXPECT_LE(first_exit.x(), 9.5);
+  EXPECT_GE(balls.calcValue(first_exit), settings.margin_mm);
+  // A segment inside is taken whole; one that starts outside is not taken.
+  EXPECT_EQ(advanceInside(balls, settings, centre, Eigen::Vector3d(0, 6, 0)), Eigen::Vector3d(0, 6, 0));
+  EXPECT_EQ(advanceInside(balls, settings, Eigen::Vector3d(12, 0, 0), centre), Eigen::Vector3d(12, 0, 0));
+  // The exit moves continuously with the segment's end.
+  const Eigen::Vector3d a = advanceInside(balls, settings, centre, Eigen::Vector3d(20, 3, 0));
+  const Eigen::Vector3d b = advanceInside(balls, settings, centre, Eigen::Vector3d(20, 3.01, 0));
+  EXPECT_LT((a - b).norm(), 0.01);
 }
 
 TEST(FibreProjection, BadInputIsRefused) {
