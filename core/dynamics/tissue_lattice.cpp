@@ -105,16 +105,11 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
       thin_directions_[n] = std::clamp(-differentiate(mid_vectors_mm, n).trace(), 1.0, 2.0);
   }
   if (num_bones_ == 2) {
-    // Step 4: the way the blend weight runs from bone 0 to bone 1, and how fast.
+    // Step 4: ∇w₁, the way the blend weight runs from bone 0 to bone 1, and how fast.
     Eigen::Matrix3Xd weight_1(3, k);
     for (int n = 0; n < k; ++n) weight_1.col(n).setConstant(node_weights_(1, n));
-    flow_.setZero(3, k);
-    flow_rate_.setZero(k);
-    for (int n = 0; n < k; ++n) {
-      const Eigen::Vector3d gradient = differentiate(weight_1, n).row(0).transpose();
-      flow_rate_[n] = gradient.norm();
-      if (flow_rate_[n] > 0.0) flow_.col(n) = gradient / flow_rate_[n];
-    }
+    weight_gradients_.resize(3, k);
+    for (int n = 0; n < k; ++n) weight_gradients_.col(n) = differentiate(weight_1, n).row(0).transpose();
   }
   update(std::vector<Eigen::Isometry3d>(static_cast<size_t>(num_bones_), Eigen::Isometry3d::Identity()));
 }
@@ -184,15 +179,15 @@ void TissueLattice::update(const std::vector<Eigen::Isometry3d>& bone_motion_M) 
   for (int n = 0; n < k; ++n) blended_mm_.col(n) = applyBlend(node_weights_.col(n).data(), transforms_, rest_nodes_mm_.col(n));
   blend_volume_changes_.resize(k);
   nodes_mm_ = blended_mm_;
-  const bool thin = anchor_vectors_mm_.cols() == k, taut = flow_.cols() == k;
-  double stretch_sum = 0.0, rate_sum = 0.0;
+  const bool thin = anchor_vectors_mm_.cols() == k, taut = weight_gradients_.cols() == k;
+  double stretch_sum = 0.0, rate_sum = 0.0;  // Σ |∇w₁| |DΦ u| = Σ |DΦ ∇w₁|, and Σ |∇w₁|
   for (int n = 0; n < k; ++n) {
     const Eigen::Matrix3d d = differentiate(blended_mm_, n);
     const double j = d.determinant();
     blend_volume_changes_[n] = j;
     if (taut) {
-      stretch_sum += flow_rate_[n] * (d * flow_.col(n)).norm();
-      rate_sum += flow_rate_[n];
+      stretch_sum += (d * weight_gradients_.col(n)).norm();
+      rate_sum += weight_gradients_.col(n).norm();
     }
     if (!thin) continue;
     const double t = j > 0.0 ? std::clamp(std::pow(j, -1.0 / thin_directions_[n]), 1.0 / settings_.max_thinning,

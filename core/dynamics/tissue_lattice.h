@@ -157,8 +157,7 @@ class TissueLattice {
   Eigen::Matrix3Xd blended_mm_;           ///< Φ(x) per node
   Eigen::VectorXd blend_volume_changes_;
   Eigen::Matrix3Xd nodes_mm_;             ///< y per node
-  Eigen::Matrix3Xd flow_;                 ///< u = ∇w₁/|∇w₁| per node (step 4; empty unless B = 2)
-  Eigen::VectorXd flow_rate_;             ///< |∇w₁| per node (1/mm)
+  Eigen::Matrix3Xd weight_gradients_;     ///< ∇w₁ per node (1/mm; step 4; empty unless B = 2)
   double stretch_ = 1.0, taut_fraction_ = 0.0;
   Eigen::Matrix3Xd taut_nodes_mm_;        ///< y + λ (linear blend − Φ) per node (empty when λ = 0)
 };
