@@ -34,27 +34,31 @@ void BoneClearance::setPoses(const std::vector<Eigen::Isometry3d>& X_MB, const E
   }
 }
 
+ClearanceSample BoneClearance::sampleBone(int b, const Eigen::Vector3d& y_M) const {
+  const BoneDistanceGrid& grid = *bones_[static_cast<size_t>(b)].grid;
+  const Eigen::Vector3d p_B = X_BM_[static_cast<size_t>(b)] * y_M;
+  BoneDistanceSample s = grid.sample(p_B);
+  if (!s.near && s.value_mm < 0.0) {  // deeper inside than the band: the exact distance, so the way out is known
+    const SignedClosestPoint q = grid.getMeshDistance().findSignedClosestPoint(p_B);
+    const Eigen::Vector3d away = p_B - q.point_mm;
+    s.value_mm = q.signed_distance_mm;
+    s.gradient_B = away.norm() > 0.0 ? Eigen::Vector3d((q.signed_distance_mm < 0.0 ? -1.0 : 1.0) * away.normalized())
+                                     : Eigen::Vector3d::Zero();
+    s.near = true;
+  }
+  ClearanceSample out;
+  out.value_mm = s.value_mm;
+  out.near = s.near;
+  out.gradient = s.near ? Eigen::Vector3d(X_MB_[static_cast<size_t>(b)].linear() * s.gradient_B) : Eigen::Vector3d::Zero();
+  return out;
+}
+
 ClearanceSample BoneClearance::sample(const Eigen::Vector3d& y_M) const {
   ClearanceSample best;
   best.value_mm = far_value_mm_;
   for (int b : near_) {
-    const BoneDistanceGrid& grid = *bones_[static_cast<size_t>(b)].grid;
-    const Eigen::Vector3d p_B = X_BM_[static_cast<size_t>(b)] * y_M;
-    BoneDistanceSample s = grid.sample(p_B);
-    if (!s.near && s.value_mm < 0.0) {  // deeper inside than the band: the exact distance, so the way out is known
-      const SignedClosestPoint q = grid.getMeshDistance().findSignedClosestPoint(p_B);
-      const Eigen::Vector3d away = p_B - q.point_mm;
-      s.value_mm = q.signed_distance_mm;
-      s.gradient_B = away.norm() > 0.0 ? Eigen::Vector3d((q.signed_distance_mm < 0.0 ? -1.0 : 1.0) * away.normalized())
-                                       : Eigen::Vector3d::Zero();
-      s.near = true;
-    }
-    if (s.value_mm < best.value_mm) {
-      best.value_mm = s.value_mm;
-      best.near = s.near;
-      best.gradient = s.near ? Eigen::Vector3d(X_MB_[static_cast<size_t>(b)].linear() * s.gradient_B)
-                             : Eigen::Vector3d::Zero();
-    }
+    const ClearanceSample s = sampleBone(b, y_M);
+    if (s.value_mm < best.value_mm) best = s;
   }
   return best;
 }

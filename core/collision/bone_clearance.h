@@ -4,8 +4,9 @@
 /// A muscle's clearance from the bones: the signed distance to the nearest bone, in the
 /// muscle frame, for the bones near the muscle this frame.
 ///
-/// The muscle is kept out of the bones by composition: it is the set {min(f, s) > 0}, f its
-/// field and s this clearance. Nothing is pushed and nothing is remembered between frames, so
+/// The muscle is kept out of the bones by composition: it is the set {min(f̃, s) > 0}, f̃ its
+/// field with what the bones took folded out of them (visitFolds, pipeline/tissue_fold.h) and s
+/// this clearance. Nothing is pushed and nothing is remembered between frames, so
 /// no bone can tunnel through a muscle however far it moves in one frame, and a muscle lying
 /// on a bone at rest (the iliacus on the iliac fossa) rests on it by design, sliding along it
 /// as the field moves.
@@ -53,6 +54,29 @@ class BoneClearance final : public ImplicitField {
   /// when no kept bone is near.
   ClearanceSample sample(const Eigen::Vector3d& y_M) const;
 
+  /// Where tissue a bone has taken folds out to y (pipeline/tissue_fold.h): for each kept bone
+  /// b with 0 < s_b(y) < band, calls visit(mirror, foot, normal, cap_mm, cap_gradient) with
+  /// n = ∇s_b(y), the foot q = y − s_b n on the bone's face, the mirror m = y − 2 s_b n inside
+  /// it, and cap = min(−s_b(m) − s_b/2, band − s_b): it falls to 0 where the mirror is no longer
+  /// inside the bone (a bone thinner than 2 s_b there) and where y leaves the band, so nothing
+  /// folds through a thin bone from its other side and the fold fades out continuously.
+  /// Folds whose cap cannot exceed `floor_mm` are skipped.
+  template <class Visit>
+  void visitFolds(const Eigen::Vector3d& y_M, double floor_mm, Visit&& visit) const {
+    for (int b : near_) {
+      const ClearanceSample s = sampleBone(b, y_M);
+      const double band = bones_[static_cast<size_t>(b)].grid->getSettings().band_mm;
+      if (!s.near || !(s.value_mm > 0.0) || !(band - s.value_mm > floor_mm)) continue;
+      const Eigen::Vector3d n = s.gradient, foot = y_M - s.value_mm * n, mirror = y_M - 2.0 * s.value_mm * n;
+      const double inside_mm = -sampleBone(b, mirror).value_mm - 0.5 * s.value_mm, in_band_mm = band - s.value_mm;
+      // Gradients for a flat face: s_b(m) = −s_b, so the first is s_b/2.
+      if (inside_mm < in_band_mm)
+        visit(mirror, foot, n, inside_mm, Eigen::Vector3d(0.5 * n));
+      else
+        visit(mirror, foot, n, in_band_mm, Eigen::Vector3d(-n));
+    }
+  }
+
   /// As an ImplicitField: s and ∇s where a bone is near, +∞ and 0 elsewhere.
   double calcValue(const Eigen::Vector3d& y_M) const override { return calcSample(y_M).value; }
   Eigen::Vector3d calcGradient(const Eigen::Vector3d& y_M) const override { return calcSample(y_M).gradient; }
@@ -72,6 +96,9 @@ class BoneClearance final : public ImplicitField {
   const std::vector<Eigen::Isometry3d>& getPoses() const { return X_MB_; }
 
  private:
+  /// s_b and ∇s_b of kept bone b alone (as sample()).
+  ClearanceSample sampleBone(int b, const Eigen::Vector3d& y_M) const;
+
   std::vector<ClearanceBone> bones_;
   std::vector<Eigen::Isometry3d> X_MB_, X_BM_;
   std::vector<int> near_;

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <string>
 
 namespace rbfmuscle {
 
@@ -17,27 +18,6 @@ std::string toString(BalanceStop stop) {
   return "unknown";
 }
 
-namespace {
-
-/// f and g = Σ cₖ φₖ at every point, over its list.
-void sumValues(const DeformedField& field, const Eigen::VectorXd& c, const Eigen::Matrix3Xd& points,
-               const NeighbourLists& lists, Eigen::VectorXd& values, Eigen::VectorXd& corrections) {
-  values.resize(points.cols());
-  corrections.resize(points.cols());
-  for (Eigen::Index j = 0; j < points.cols(); ++j) {
-    const Eigen::Vector3d p = points.col(j);
-    double f = 0.0, g = 0.0;
-    field.visitActiveAmong(p, lists.begin(static_cast<int>(j)), lists.count(static_cast<int>(j)),
-                           [&](int index, const DeformedKernel& k, double phi, const Eigen::Vector3d&) {
-                             f += k.weight * phi;
-                             g += c[index] * phi;
-                           });
-    values[j] = field.getOffset() + f;
-    corrections[j] = g;
-  }
-}
-
-}  // namespace
 
 VolumeBalance::VolumeBalance(const Eigen::VectorXd& rest_weights, const std::vector<bool>& free_mask,
                              double cell_volume_mm3, double cell_mm, const BalanceSettings& settings)
@@ -53,16 +33,66 @@ VolumeBalance::VolumeBalance(const Eigen::VectorXd& rest_weights, const std::vec
     if (free_mask[static_cast<size_t>(k)]) correction_weights_[k] = std::abs(rest_weights[k]);
 }
 
+void VolumeBalance::sumValues(const DeformedField& field, const Eigen::Matrix3Xd& points, const NeighbourLists& lists,
+                              const Eigen::VectorXd& clearance_mm, const FoldFinder& folds) {
+  const Eigen::VectorXd& c = correction_weights_;
+  const auto sum_among = [&](const Eigen::Vector3d& p, const int* kernels, int count, double& f, double& g) {
+    f = field.getOffset();
+    g = 0.0;
+    field.visitActiveAmong(p, kernels, count, [&](int index, const DeformedKernel& k, double phi, const Eigen::Vector3d&) {
+      f += k.weight * phi;
+      g += c[index] * phi;
+    });
+  };
+  const auto sum_all = [&](const Eigen::Vector3d& p, double& f, double& g) {  // the general search
+    const int* kernels = nullptr;
+    int count = 0;
+    field.findCandidates(p, kernels, count);
+    sum_among(p, kernels, count, f, g);
+  };
+  values_.resize(points.cols());
+  corrections_.resize(points.cols());
+  for (Eigen::Index j = 0; j < points.cols(); ++j)
+    sum_among(points.col(j), lists.begin(static_cast<int>(j)), lists.count(static_cast<int>(j)), values_[j], corrections_[j]);
+  // Only folds that can win for some |δ| ≤ max_correction are kept (f + δ g ≥ f − max_correction g).
+  // A fold lies up to twice the bones' band away, beyond the point's list: the whole field there.
+  folds_.clear();
+  if (!folds) return;
+  const double bound = settings_.enabled ? settings_.max_correction : 0.0;
+  for (Eigen::Index j = 0; j < points.cols(); ++j) {
+    const double lowest = values_[j] - bound * corrections_[j];
+    if (!(clearance_mm[j] > 0.0) || !(lowest < clearance_mm[j])) continue;  // s always wins
+    folds(points.col(j), lowest, [&](const Eigen::Vector3d& mirror, const Eigen::Vector3d& foot, double cap_mm) {
+      if (!(cap_mm > lowest)) return;
+      FoldLines lines{static_cast<int>(j), 0.0, 0.0, 0.0, 0.0, cap_mm};
+      sum_all(mirror, lines.mirror_value, lines.mirror_correction);
+      if (!(lines.mirror_value + bound * lines.mirror_correction > lowest)) return;
+      sum_all(foot, lines.foot_value, lines.foot_correction);
+      if (lines.foot_value + bound * lines.foot_correction > lowest) folds_.push_back(lines);
+    });
+  }
+}
+
 double VolumeBalance::sum(double delta, const Eigen::VectorXd& volume_changes, const Eigen::VectorXd& clearance_mm,
                           double* derivative) const {
   double volume = 0.0, slope = 0.0;
+  size_t e = 0;
   for (Eigen::Index j = 0; j < values_.size(); ++j) {
-    const double f = values_[j] + delta * corrections_[j];
+    double f = values_[j] + delta * corrections_[j], rate = corrections_[j];
+    for (; e < folds_.size() && folds_[e].point == j; ++e) {  // max(f, min(mirror, foot, cap)), lines in δ
+      const FoldLines& fold = folds_[e];
+      const double mirror = fold.mirror_value + delta * fold.mirror_correction;
+      const double foot = fold.foot_value + delta * fold.foot_correction;
+      const double folded = std::min({mirror, foot, fold.cap_mm});
+      if (!(folded > f)) continue;
+      f = folded;
+      rate = folded == fold.cap_mm ? 0.0 : folded == mirror ? fold.mirror_correction : fold.foot_correction;
+    }
     const double w = cell_volume_mm3_ * volume_changes[j];
     if (f < clearance_mm[j]) {
       const double t = std::tanh(f / width_);
       volume += w * 0.5 * (1.0 + t);
-      slope += w * 0.5 * (1.0 - t * t) * corrections_[j] / width_;
+      slope += w * 0.5 * (1.0 - t * t) * rate / width_;
     } else {
       volume += w * 0.5 * (1.0 + std::tanh(clearance_mm[j] / width_));
     }
@@ -72,19 +102,20 @@ double VolumeBalance::sum(double delta, const Eigen::VectorXd& volume_changes, c
 }
 
 void VolumeBalance::setRest(const DeformedField& rest_field, const Eigen::Matrix3Xd& points_mm,
-                            const NeighbourLists& lists, const Eigen::VectorXd& clearance_mm) {
+                            const NeighbourLists& lists, const Eigen::VectorXd& clearance_mm,
+                            const FoldFinder& folds) {
   if (clearance_mm.size() != points_mm.cols()) throw std::invalid_argument("VolumeBalance::setRest: sizes differ");
-  sumValues(rest_field, correction_weights_, points_mm, lists, values_, corrections_);
+  sumValues(rest_field, points_mm, lists, clearance_mm, folds);
   rest_volume_mm3_ = sum(0.0, Eigen::VectorXd::Ones(points_mm.cols()), clearance_mm, nullptr);
   if (!(rest_volume_mm3_ > 0.0)) throw std::invalid_argument("VolumeBalance: the rest volume is not positive");
 }
 
 BalanceReport VolumeBalance::balance(DeformedField& field, const Eigen::Matrix3Xd& points_mm,
                                     const NeighbourLists& lists, const Eigen::VectorXd& volume_changes,
-                                    const Eigen::VectorXd& clearance_mm) {
+                                    const Eigen::VectorXd& clearance_mm, const FoldFinder& folds) {
   if (volume_changes.size() != points_mm.cols() || clearance_mm.size() != points_mm.cols())
     throw std::invalid_argument("VolumeBalance::balance: sizes differ");
-  sumValues(field, correction_weights_, points_mm, lists, values_, corrections_);
+  sumValues(field, points_mm, lists, clearance_mm, folds);
   BalanceReport report;
   double slope = 0.0;
   double volume = sum(0.0, volume_changes, clearance_mm, &slope);

@@ -8,6 +8,7 @@
 
 #include <Eigen/Core>
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,9 +40,16 @@ struct BalanceReport {
   BalanceStop stop = BalanceStop::kWithinTolerance;
 };
 
+/// Where tissue folds out of a bone to a point y (pipeline/tissue_fold.h): calls
+/// visit(mirror, foot, cap_mm) for each fold to y whose cap may exceed floor; f(y) is then at
+/// least min(f(mirror), f(foot), cap).
+using FoldFinder = std::function<void(const Eigen::Vector3d& y_mm, double floor,
+                                      const std::function<void(const Eigen::Vector3d&, const Eigen::Vector3d&, double)>& visit)>;
+
 /// V = Σ_j w_j J_j H(min(f(y_j), s_j)) over the quadrature points y_j carried from a rest grid
 /// (cell volume w_j = h³, J_j the carried volume change, s_j the clearance from the bones,
-/// +∞ far from them), so the volume is that of the muscle outside the bones.
+/// +∞ far from them), so the volume is that of the muscle outside the bones; where tissue is
+/// folded out of a bone to y_j (`folds`), f(y_j) is raised to the fold's value.
 /// Correction: the free kernels' weights λₖ ← λₖ⁰ + δ cₖ with cₖ = |λₖ⁰| (0 for the others),
 /// so f gains δ g, g = Σ cₖ φₖ ≥ 0 and V(δ) is non-decreasing; V(δ) = V_rest is solved by
 /// safeguarded Newton within |δ| ≤ max_correction from one pass over the points (f and g
@@ -57,13 +65,14 @@ class VolumeBalance {
   /// Sets V_rest from the rest field at the rest points (J = 1) with their clearances.
   /// @throws std::invalid_argument if V_rest ≤ 0 or sizes differ.
   void setRest(const DeformedField& rest_field, const Eigen::Matrix3Xd& points_mm, const NeighbourLists& lists,
-               const Eigen::VectorXd& clearance_mm);
+               const Eigen::VectorXd& clearance_mm, const FoldFinder& folds = nullptr);
 
   /// Measures V for `field` (its weights must be the rest weights) at the carried points with
   /// volume changes J and clearances s, and (if enabled) sets the field's weights to λ⁰ + δ c.
   /// @throws std::invalid_argument on size mismatch.
   BalanceReport balance(DeformedField& field, const Eigen::Matrix3Xd& points_mm, const NeighbourLists& lists,
-                       const Eigen::VectorXd& volume_changes, const Eigen::VectorXd& clearance_mm);
+                       const Eigen::VectorXd& volume_changes, const Eigen::VectorXd& clearance_mm,
+                       const FoldFinder& folds = nullptr);
 
   /// V_rest (mm³).
   double getRestVolume() const { return rest_volume_mm3_; }
@@ -79,7 +88,17 @@ class VolumeBalance {
   double width_;
   BalanceSettings settings_;
   double rest_volume_mm3_ = 0.0;
+  /// f and g at a fold's mirror and foot, and its cap: the fold's value is the smallest of three lines in δ.
+  struct FoldLines {
+    int point;
+    double mirror_value, mirror_correction, foot_value, foot_correction, cap_mm;
+  };
+  /// f_j and g_j at the points, and at those of their folds that can win, for this frame.
+  void sumValues(const DeformedField& field, const Eigen::Matrix3Xd& points, const NeighbourLists& lists,
+                 const Eigen::VectorXd& clearance_mm, const FoldFinder& folds);
+
   Eigen::VectorXd values_, corrections_;  ///< f_j, g_j of the current frame
+  std::vector<FoldLines> folds_;          ///< the current frame's folds, sorted by point
 };
 
 }  // namespace rbfmuscle

@@ -7,7 +7,7 @@
 
 namespace rbfmuscle {
 
-/// Poses the contact bones (bone_clearance.h): the muscle is min(f, s) from here on, so
+/// Poses the contact bones (bone_clearance.h): the muscle is min(f̃, s) from here on, so
 /// every later stage sees it outside the bones. A bone whose posed box misses the region the muscle can reach this frame (its rest
 /// box moved by each of its bones, padded) is not sampled at all.
 class ContactStage final : public FrameStage {

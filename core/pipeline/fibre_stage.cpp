@@ -34,7 +34,7 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
   double taut_move = 0.0;
   if (taut_fraction > 0.0) {
     lattice_->carryTaut(binding_, taut_mm_);
-    const MuscleShape shape(state);
+    const MuscleShape shape(state, nullptr, 0, BoneContact::kCut);
     for (Eigen::Index c = 0; c < points.cols(); ++c) {
       const int j = static_cast<int>(c % per);
       if (j == 0 || j == segments) continue;
@@ -50,7 +50,7 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
   for (Eigen::Index c = 0; c < points.cols(); ++c) {
     const int j = static_cast<int>(c % per);
     const bool end = j == 0 || j == segments;
-    const MuscleShape shape(state, lists_.begin(static_cast<int>(c)), lists_.count(static_cast<int>(c)));
+    const MuscleShape shape(state, lists_.begin(static_cast<int>(c)), lists_.count(static_cast<int>(c)), BoneContact::kCut);
     Eigen::Vector3d p = points.col(c);
     const ProjectionResult r = end ? projectInside(shape, projection_, p, projection_.end_max_move_mm)
                                    : projectInside(shape, projection_, p);
@@ -73,7 +73,7 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
       // The whole field, not this point's rest kernel list: the list reaches about one kernel
       // radius from the point's rest place, and the neighbours are up to a segment away (19 mm on
       // the psoas), where the list can miss the kernels that hold them inside. Rare, so cheap.
-      const MuscleShape shape(state);
+      const MuscleShape shape(state, nullptr, 0, BoneContact::kCut);
       if (!(shape.calcValue(points.col(first + a)) > 0.0) || !(shape.calcValue(points.col(first + b)) > 0.0)) continue;
       Eigen::Vector3d p = points.col(c);
       values_[c] = placeBetweenInsideNeighbours(shape, projection_, points.col(first + a), points.col(first + b),

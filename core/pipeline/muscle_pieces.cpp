@@ -3,6 +3,7 @@
 
 #include "geometry/disjoint_sets.h"
 #include "geometry/iso_surface.h"
+#include "pipeline/tissue_fold.h"
 
 #include <algorithm>
 #include <array>
@@ -50,8 +51,10 @@ MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
     state.field.calcValues(points, values);  // parallel
     for (std::int64_t v = 0; v < layer; ++v) {
       double g = values[v];
-      if (g > 0.0 && state.bones) {
+      if (state.bones) {  // min(f̃, s), as MuscleShape, without f's gradient
         const ClearanceSample s = state.bones->sample(points.col(v));
+        if (s.near && s.value_mm > 0.0 && g < s.value_mm)
+          g = foldOutOfBones(state.field, *state.bones, points.col(v), FieldSample{g, Eigen::Vector3d::Zero()}).value;
         if (s.near) g = std::min(g, s.value_mm);
       }
       inside[static_cast<std::size_t>(v + layer * k)] = g > 0.0;

@@ -6,7 +6,7 @@
 
 namespace rbfmuscle {
 
-/// The pieces of the muscle outside the bones, {min(f, s) > 0}.
+/// The pieces of the muscle outside the bones, {min(f̃, s) > 0} (muscle_state.h).
 struct MusclePieces {
   int pieces = 0;                  ///< connected pieces (0: the muscle vanished)
   double largest_volume_mm3 = 0;   ///< volume of the largest piece

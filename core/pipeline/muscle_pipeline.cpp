@@ -71,7 +71,7 @@ MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const Pipelin
     fibre_settings.segments = settings.fibre_segments;
     fibres = generateFibres(fit, definition.origin_area_M, definition.insertion_area_M, fibre_settings);
   }
-  const MuscleShape rest_shape(*state_);
+  const MuscleShape rest_shape(*state_, nullptr, 0, BoneContact::kCut);  // as the tracked surface
   TriangleMesh rest_surface = extractIsoSurface(
       [&](const Eigen::Matrix3Xd& points, Eigen::VectorXd& values) {
         values.resize(points.cols());

@@ -4,6 +4,7 @@
 /// What a frame's stages read and write: the frame's input and the muscle's state.
 #include "collision/bone_clearance.h"
 #include "geometry/triangle_mesh.h"
+#include "pipeline/tissue_fold.h"
 #include "rbf/deformed_field.h"
 #include "rbf/implicit_field.h"
 
@@ -39,20 +40,31 @@ struct MuscleState {
   TriangleMesh surface_M;             ///< tracked surface (when wanted)
 };
 
-/// The muscle as a set: g(y) = min(f(y), s(y)), inside where g > 0 — the field outside the
-/// bones. Gradient of the smaller one. With a kernel list (a carried point's rest neighbours,
-/// neighbour_lists.h) f sums that list only, so no search is built during a frame; without
-/// one, the field's general search. With `with_bones` false it is the field alone.
+/// How a MuscleShape sees the bones.
+enum class BoneContact {
+  kIgnored,  ///< the field alone: f
+  kCut,      ///< the field outside the bones: min(f, s)
+  kFolded,   ///< the muscle: min(f̃, s), with what the bones took folded out of them (tissue_fold.h)
+};
+
+/// The muscle as a set: g(y) = min(f̃(y), s(y)), inside where g > 0 — the field outside the
+/// bones, with what they took folded out of them (tissue_fold.h); or, as `contact` says, f alone
+/// or min(f, s). Gradient of the smaller one. With a kernel list (a carried point's rest
+/// neighbours, neighbour_lists.h) f sums that list only; without one, and at the folds, the
+/// field's general search.
 class MuscleShape final : public ImplicitField {
  public:
-  explicit MuscleShape(const MuscleState& state, const int* kernels = nullptr, int count = 0, bool with_bones = true)
-      : state_(state), kernels_(kernels), count_(count), with_bones_(with_bones) {}
+  explicit MuscleShape(const MuscleState& state, const int* kernels = nullptr, int count = 0,
+                       BoneContact contact = BoneContact::kFolded)
+      : state_(state), kernels_(kernels), count_(count), contact_(contact) {}
   double calcValue(const Eigen::Vector3d& p_mm) const override { return calcSample(p_mm).value; }
   Eigen::Vector3d calcGradient(const Eigen::Vector3d& p_mm) const override { return calcSample(p_mm).gradient; }
   FieldSample calcSample(const Eigen::Vector3d& p_mm) const override {
-    const FieldSample f = kernels_ ? state_.field.calcSampleAmong(p_mm, kernels_, count_) : state_.field.calcSample(p_mm);
-    if (!state_.bones || !with_bones_) return f;
+    FieldSample f = kernels_ ? state_.field.calcSampleAmong(p_mm, kernels_, count_) : state_.field.calcSample(p_mm);
+    if (!state_.bones || contact_ == BoneContact::kIgnored) return f;
     const ClearanceSample s = state_.bones->sample(p_mm);  // far from every bone: s ≥ its band, the zero set is f's
+    if (contact_ == BoneContact::kFolded && s.near && s.value_mm > 0.0 && f.value < s.value_mm)
+      f = foldOutOfBones(state_.field, *state_.bones, p_mm, f);
     return s.near && s.value_mm < f.value ? FieldSample{s.value_mm, s.gradient} : f;
   }
 
@@ -60,7 +72,7 @@ class MuscleShape final : public ImplicitField {
   const MuscleState& state_;
   const int* kernels_;
   int count_;
-  bool with_bones_;
+  BoneContact contact_;
 };
 
 }  // namespace rbfmuscle

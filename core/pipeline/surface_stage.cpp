@@ -30,11 +30,12 @@ void SurfaceStage::run(MuscleState& state, const FrameInput&) {
     // First onto the field's surface f = 0 (smooth), then, where that lies in a bone, onto the
     // bone's face on the muscle's side: the surface of min(f, s) is f = 0 outside the bones and
     // s = 0 on them.
-    const MuscleShape field(state, lists_.begin(j), lists_.count(j), false);
+    const MuscleShape field(state, lists_.begin(j), lists_.count(j), BoneContact::kIgnored);
     double start_value = 0.0;
     const FieldSample on_field = projectVertex(field, normals_.col(v), p, settings_, start_value);
     start = std::max(start, std::abs(start_value));
-    const MuscleShape shape(state, lists_.begin(j), lists_.count(j));
+    // min(f, s): the tracked surface does not show tissue folded out of a bone (tissue_fold.h).
+    const MuscleShape shape(state, lists_.begin(j), lists_.count(j), BoneContact::kCut);
     if (state.bones) exitBoneIntoMuscle(field, on_field.gradient, *state.bones, p, settings_);
     const double g = shape.calcValue(p);
     surface.vertices_mm.col(v) = p;

@@ -19,7 +19,8 @@ namespace rbfmuscle {
 /// checking contacts, with no grid evaluated per frame. A vertex whose part of the muscle lies
 /// wholly in a bone, or whose way into the muscle runs on through the bone, finds no surface; its
 /// triangles are left out (the vertex stays, so vertices keep their index from frame to frame).
-/// Runs only when a frame asks for it.
+/// The tissue a bone took and folded out on its face (tissue_fold.h) has no tracked vertices: the
+/// tracked surface is that of min(f, s) and stops at the face. Runs only when a frame asks for it.
 class SurfaceStage final : public FrameStage {
  public:
   /// @param rest_surface_M the rest surface (M, mm), e.g. extracted once from the rest field

@@ -7,7 +7,8 @@
 
 namespace rbfmuscle {
 
-/// Measures the muscle's volume outside the bones over the carried quadrature and corrects
+/// Measures the muscle's volume outside the bones, with what they took folded out of them
+/// (tissue_fold.h), over the carried quadrature and corrects
 /// the free kernels' weights (volume_balance.h).
 class VolumeStage final : public FrameStage {
  public:

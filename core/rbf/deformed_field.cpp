@@ -209,6 +209,10 @@ void DeformedField::calcValues(const Eigen::Matrix3Xd& points_mm, Eigen::VectorX
   for (Eigen::Index j = 0; j < points_mm.cols(); ++j) out[j] = calcValue(points_mm.col(j));
 }
 
+void DeformedField::findCandidates(const Eigen::Vector3d& p_mm, const int*& first, int& count) const {
+  grid().findCandidates(p_mm, first, count);
+}
+
 void DeformedField::findActiveKernels(const Eigen::Vector3d& p_mm, std::vector<int>& out) const {
   out.clear();
   const int* first = nullptr;

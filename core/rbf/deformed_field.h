@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <mutex>
+#include <utility>
 #include <vector>
 
 namespace rbfmuscle {
@@ -122,6 +123,17 @@ class DeformedField final : public ImplicitField {
   double calcMeanCurvature(const Eigen::Vector3d& p_mm) const;
   /// f at every column of points (3×M) into `out` (resized); parallel, thread-count independent.
   void calcValues(const Eigen::Matrix3Xd& points_mm, Eigen::VectorXd& out) const;
+
+  /// As visitActiveAmong over the candidates of the general search at p.
+  template <class Visitor>
+  void visitActive(const Eigen::Vector3d& p_mm, Visitor&& visit) const {
+    const int* first = nullptr;
+    int count = 0;
+    findCandidates(p_mm, first, count);
+    visitActiveAmong(p_mm, first, count, std::forward<Visitor>(visit));
+  }
+  /// The general search's candidates at p: kernels whose cut-off box holds p (a superset of the active ones).
+  void findCandidates(const Eigen::Vector3d& p_mm, const int*& first, int& count) const;
 
   /// Kernels active at p (φ ≥ ε) by the general search, ascending, into `out`.
   void findActiveKernels(const Eigen::Vector3d& p_mm, std::vector<int>& out) const;
