@@ -11,7 +11,6 @@
 
 #include <cmath>
 #include <mutex>
-#include <utility>
 #include <vector>
 
 namespace rbfmuscle {
@@ -124,14 +123,6 @@ class DeformedField final : public ImplicitField {
   /// f at every column of points (3×M) into `out` (resized); parallel, thread-count independent.
   void calcValues(const Eigen::Matrix3Xd& points_mm, Eigen::VectorXd& out) const;
 
-  /// As visitActiveAmong over the candidates of the general search at p.
-  template <class Visitor>
-  void visitActive(const Eigen::Vector3d& p_mm, Visitor&& visit) const {
-    const int* first = nullptr;
-    int count = 0;
-    findCandidates(p_mm, first, count);
-    visitActiveAmong(p_mm, first, count, std::forward<Visitor>(visit));
-  }
   /// The general search's candidates at p: kernels whose cut-off box holds p (a superset of the active ones).
   void findCandidates(const Eigen::Vector3d& p_mm, const int*& first, int& count) const;
 
