@@ -16,6 +16,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <limits>
 #include <memory>
 #include <string>
@@ -66,7 +67,8 @@ class BoneClearance final : public ImplicitField {
     for (int b : near_) {
       const ClearanceSample s = sampleBone(b, y_M);
       const double band = bones_[static_cast<size_t>(b)].grid->getSettings().band_mm;
-      if (!s.near || !(s.value_mm > 0.0) || !(band - s.value_mm > floor_mm)) continue;
+      // s_b is 1-Lipschitz, so −s_b(m) ≤ s_b and the cap is at most min(s_b/2, band − s_b).
+      if (!s.near || !(s.value_mm > 0.0) || !(std::min(0.5 * s.value_mm, band - s.value_mm) > floor_mm)) continue;
       const Eigen::Vector3d n = s.gradient, foot = y_M - s.value_mm * n, mirror = y_M - 2.0 * s.value_mm * n;
       const double inside_mm = -sampleBone(b, mirror).value_mm - 0.5 * s.value_mm, in_band_mm = band - s.value_mm;
       // Gradients for a flat face: s_b(m) = −s_b, so the first is s_b/2.
