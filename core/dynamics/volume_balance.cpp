@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "dynamics/volume_balance.h"
 
+#include "rbf/parallel_blocks.h"
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -50,27 +52,32 @@ void VolumeBalance::sumValues(const DeformedField& field, const Eigen::Matrix3Xd
     field.findCandidates(p, kernels, count);
     sum_among(p, kernels, count, f, g);
   };
-  values_.resize(points.cols());
-  corrections_.resize(points.cols());
-  for (Eigen::Index j = 0; j < points.cols(); ++j)
-    sum_among(points.col(j), lists.begin(static_cast<int>(j)), lists.count(static_cast<int>(j)), values_[j], corrections_[j]);
   // Only folds that can win for some |δ| ≤ max_correction are kept (f + δ g ≥ f − max_correction g).
   // A fold lies up to twice the bones' band away, beyond the point's list: the whole field there.
-  folds_.clear();
-  if (!folds) return;
   const double bound = settings_.enabled ? settings_.max_correction : 0.0;
-  for (Eigen::Index j = 0; j < points.cols(); ++j) {
-    const double lowest = values_[j] - bound * corrections_[j];
-    if (!(clearance_mm[j] > 0.0) || !(lowest < clearance_mm[j])) continue;  // s always wins
-    folds(points.col(j), lowest, [&](const Eigen::Vector3d& mirror, const Eigen::Vector3d& foot, double cap_mm) {
-      if (!(cap_mm > lowest)) return;
-      FoldLines lines{static_cast<int>(j), 0.0, 0.0, 0.0, 0.0, cap_mm};
-      sum_all(mirror, lines.mirror_value, lines.mirror_correction);
-      if (!(lines.mirror_value + bound * lines.mirror_correction > lowest)) return;
-      sum_all(foot, lines.foot_value, lines.foot_correction);
-      if (lines.foot_value + bound * lines.foot_correction > lowest) folds_.push_back(lines);
-    });
-  }
+  const long count = static_cast<long>(points.cols());
+  values_.resize(count);
+  corrections_.resize(count);
+  std::vector<std::vector<FoldLines>> block_folds(static_cast<size_t>((count + kBlock - 1) / kBlock));
+  forEachBlock(count, kBlock, [&](long begin, long end) {
+    std::vector<FoldLines>& found = block_folds[static_cast<size_t>(begin / kBlock)];
+    for (long j = begin; j < end; ++j) {
+      const int i = static_cast<int>(j);
+      sum_among(points.col(j), lists.begin(i), lists.count(i), values_[j], corrections_[j]);
+      const double lowest = values_[j] - bound * corrections_[j];
+      if (!folds || !(clearance_mm[j] > 0.0) || !(lowest < clearance_mm[j])) continue;  // s always wins
+      folds(points.col(j), lowest, [&](const Eigen::Vector3d& mirror, const Eigen::Vector3d& foot, double cap_mm) {
+        if (!(cap_mm > lowest)) return;
+        FoldLines lines{i, 0.0, 0.0, 0.0, 0.0, cap_mm};
+        sum_all(mirror, lines.mirror_value, lines.mirror_correction);
+        if (!(lines.mirror_value + bound * lines.mirror_correction > lowest)) return;
+        sum_all(foot, lines.foot_value, lines.foot_correction);
+        if (lines.foot_value + bound * lines.foot_correction > lowest) found.push_back(lines);
+      });
+    }
+  });
+  folds_.clear();
+  for (const std::vector<FoldLines>& found : block_folds) folds_.insert(folds_.end(), found.begin(), found.end());
 }
 
 double VolumeBalance::sum(double delta, const Eigen::VectorXd& volume_changes, const Eigen::VectorXd& clearance_mm,

@@ -97,6 +97,7 @@ class VolumeBalance {
   void sumValues(const DeformedField& field, const Eigen::Matrix3Xd& points, const NeighbourLists& lists,
                  const Eigen::VectorXd& clearance_mm, const FoldFinder& folds);
 
+  static constexpr long kBlock = 256;     ///< points per shared block (parallel_blocks.h)
   Eigen::VectorXd values_, corrections_;  ///< f_j, g_j of the current frame
   std::vector<FoldLines> folds_;          ///< the current frame's folds, sorted by point
 };

@@ -48,22 +48,26 @@ const FrameTiming& Session::step(double time_s, const Eigen::VectorXd& q, bool w
   recompute_all_ = true;
   const FrameState state(frames_, time_s, skeleton.getCoordinateValues(), X_GB_, moved_, wants_geometry);
   throwIfInterrupted();
-  // Components of one frame are independent: they update in parallel, each on one thread, so
-  // the results do not depend on the thread count. The first error (in document order) is the
-  // one reported.
+  // Components of one frame are independent: they update in parallel, each as one task whose
+  // per-point loops idle threads share (rbf/parallel_blocks.h), so the results do not depend on
+  // the thread count. The first error (in document order) is the one reported.
   const int count = static_cast<int>(components.size());
   std::vector<std::string> errors(components.size());
-#pragma omp parallel for schedule(dynamic, 1)
+#pragma omp parallel
+#pragma omp single
   for (int c = 0; c < count; ++c) {
-    const auto component_start = Clock::now();
-    const std::size_t i = static_cast<std::size_t>(c);
-    try {
-      components[i]->update(state);
-    } catch (const std::exception& error) {
-      errors[i] = error.what();
-      if (errors[i].empty()) errors[i] = "unknown error";
+#pragma omp task firstprivate(c) shared(components, errors, state)
+    {
+      const auto component_start = Clock::now();
+      const std::size_t i = static_cast<std::size_t>(c);
+      try {
+        components[i]->update(state);
+      } catch (const std::exception& error) {
+        errors[i] = error.what();
+        if (errors[i].empty()) errors[i] = "unknown error";
+      }
+      timing_.component_ms[i] = msSince(component_start);
     }
-    timing_.component_ms[i] = msSince(component_start);
   }
   for (std::size_t c = 0; c < components.size(); ++c)
     if (!errors[c].empty())

@@ -2,6 +2,7 @@
 #include "pipeline/fibre_stage.h"
 
 #include "fibres/fibre_projection.h"
+#include "rbf/parallel_blocks.h"
 
 #include <algorithm>
 
@@ -31,36 +32,45 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
   // 0. A taut muscle's interior fibre points move towards the taut map's chords, as far as the
   // muscle allows. The whole field: a point can end several mm from its rest kernels.
   const double taut_fraction = lattice_->getTautFraction();
-  double taut_move = 0.0;
+  const long count = static_cast<long>(points.cols());
+  moves_mm_.setZero(count);
   if (taut_fraction > 0.0) {
     lattice_->carryTaut(binding_, taut_mm_);
     const MuscleShape shape(state, nullptr, 0, BoneContact::kCut);
-    for (Eigen::Index c = 0; c < points.cols(); ++c) {
-      const int j = static_cast<int>(c % per);
-      if (j == 0 || j == segments) continue;
-      const Eigen::Vector3d p = advanceInside(shape, projection_, points.col(c), taut_mm_.col(c));
-      taut_move = std::max(taut_move, (p - points.col(c)).norm());
-      points.col(c) = p;
-    }
+    forEachBlock(count, kBlock, [&](long begin, long end) {
+      for (long c = begin; c < end; ++c) {
+        const int j = static_cast<int>(c % per);
+        if (j == 0 || j == segments) continue;
+        const Eigen::Vector3d p = advanceInside(shape, projection_, points.col(c), taut_mm_.col(c));
+        moves_mm_[c] = (p - points.col(c)).norm();
+        points.col(c) = p;
+      }
+    });
   }
-  values_.resize(points.cols());
-  int projected = 0;
-  double end_offset = 0.0;
+  const double taut_move = moves_mm_.size() > 0 ? moves_mm_.maxCoeff() : 0.0;
+  values_.resize(count);
   // 1. Monotone ascent of min(f, s) for every point below the margin; ends move at most end_max_move_mm.
-  for (Eigen::Index c = 0; c < points.cols(); ++c) {
-    const int j = static_cast<int>(c % per);
-    const bool end = j == 0 || j == segments;
-    const MuscleShape shape(state, lists_.begin(static_cast<int>(c)), lists_.count(static_cast<int>(c)), BoneContact::kCut);
-    Eigen::Vector3d p = points.col(c);
-    const ProjectionResult r = end ? projectInside(shape, projection_, p, projection_.end_max_move_mm)
-                                   : projectInside(shape, projection_, p);
-    if (r.steps > 0) {
-      if (end) end_offset = std::max(end_offset, (p - points.col(c)).norm());
-      points.col(c) = p;
-      ++projected;
+  moves_mm_.setZero(count);
+  steps_.setZero(count);
+  forEachBlock(count, kBlock, [&](long begin, long end) {
+    for (long c = begin; c < end; ++c) {
+      const int j = static_cast<int>(c % per);
+      const bool is_end = j == 0 || j == segments;
+      const MuscleShape shape(state, lists_.begin(static_cast<int>(c)), lists_.count(static_cast<int>(c)),
+                              BoneContact::kCut);
+      Eigen::Vector3d p = points.col(c);
+      const ProjectionResult r = is_end ? projectInside(shape, projection_, p, projection_.end_max_move_mm)
+                                        : projectInside(shape, projection_, p);
+      if (r.steps > 0) {
+        if (is_end) moves_mm_[c] = (p - points.col(c)).norm();
+        points.col(c) = p;
+      }
+      steps_[c] = r.steps;
+      values_[c] = r.value;
     }
-    values_[c] = r.value;
-  }
+  });
+  const int projected = static_cast<int>((steps_.array() > 0).count());
+  const double end_offset = count > 0 ? moves_mm_.maxCoeff() : 0.0;
   // 2. Interior points still outside: placed from the nearest inside points of their fibre.
   for (Eigen::Index first = 0; first < points.cols(); first += per)
     for (int j = 1; j < segments; ++j) {

@@ -61,8 +61,11 @@ class FibreStage final : public FrameStage {
   LatticeBinding binding_;
   NeighbourLists lists_;
   double rest_mean_mm_ = 0.0;
+  static constexpr long kBlock = 64;  ///< fibre points per shared block (parallel_blocks.h)
   Eigen::Matrix3Xd taut_mm_;
   Eigen::VectorXd values_, lengths_mm_;
+  Eigen::VectorXd moves_mm_;  ///< per point: the taut move, then an end's projection move (mm)
+  Eigen::VectorXi steps_;     ///< per point: the projection's ascent steps
   Report report_;
 };
 

@@ -161,8 +161,9 @@ FieldSample DeformedField::calcSampleAmong(const Eigen::Vector3d& p_mm, const in
 }
 
 const KernelGrid& DeformedField::grid() const {
+  if (grid_valid_.load(std::memory_order_acquire)) return grid_;
   std::lock_guard<std::mutex> lock(grid_mutex_);
-  if (!grid_valid_) {
+  if (!grid_valid_.load(std::memory_order_relaxed)) {
     Eigen::Matrix3Xd lower(3, getNumKernels()), upper(3, getNumKernels());
     for (int k = 0; k < getNumKernels(); ++k) {
       const Eigen::Vector3d h = calcHalfExtents(k);
@@ -170,7 +171,7 @@ const KernelGrid& DeformedField::grid() const {
       upper.col(k) = centres_mm_.col(k) + h;
     }
     grid_.build(lower, upper);
-    grid_valid_ = true;
+    grid_valid_.store(true, std::memory_order_release);
   }
   return grid_;
 }

@@ -10,6 +10,7 @@
 #include <Eigen/Core>
 
 #include <cmath>
+#include <atomic>
 #include <mutex>
 #include <vector>
 
@@ -145,7 +146,7 @@ class DeformedField final : public ImplicitField {
   std::vector<DeformedKernel> kernels_;
   int clamped_frames_ = 0;
   mutable std::mutex grid_mutex_;
-  mutable bool grid_valid_ = false;
+  mutable std::atomic<bool> grid_valid_{false};  ///< read without the lock once built
   mutable KernelGrid grid_;
 };
 
