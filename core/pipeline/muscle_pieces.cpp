@@ -3,7 +3,6 @@
 
 #include "geometry/disjoint_sets.h"
 #include "geometry/iso_surface.h"
-#include "pipeline/tissue_fold.h"
 
 #include <algorithm>
 #include <array>
@@ -49,15 +48,9 @@ MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
       for (std::int64_t i = 0; i < n[0]; ++i)
         points.col(i + n[0] * j) = box.min() + cell_mm * Eigen::Vector3d(double(i), double(j), double(k));
     state.field.calcValues(points, values);  // parallel
-    for (std::int64_t v = 0; v < layer; ++v) {
-      double g = values[v];
-      if (state.bones) {  // min(f̃, s), as MuscleShape, without f's gradient
-        const ClearanceSample s = state.bones->sample(points.col(v));
-        if (s.near && s.value_mm > 0.0 && g < s.value_mm)
-          g = foldOutOfBones(state.field, *state.bones, points.col(v), FieldSample{g, Eigen::Vector3d::Zero()}).value;
-        if (s.near) g = std::min(g, s.value_mm);
-      }
-      inside[static_cast<std::size_t>(v + layer * k)] = g > 0.0;
+    for (std::int64_t v = 0; v < layer; ++v) {  // the muscle, without f's gradient
+      const FieldSample f{values[v], Eigen::Vector3d::Zero()};
+      inside[static_cast<std::size_t>(v + layer * k)] = applyBones(state, points.col(v), f, BoneContact::kFolded).value > 0.0;
     }
   }
   // The edges of the grid's tetrahedra from a node (iso_surface.h): the three axes, the three

@@ -47,6 +47,18 @@ enum class BoneContact {
   kFolded,   ///< the muscle: min(f̃, s), with what the bones took folded out of them (tissue_fold.h)
 };
 
+/// The muscle at y given f's sample there (value and gradient), as `contact` says: f;
+/// min(f, s); or min(f̃, s), with what the bones took folded out of them (tissue_fold.h).
+/// Gradient of the smaller one.
+inline FieldSample applyBones(const MuscleState& state, const Eigen::Vector3d& y_mm, FieldSample f,
+                              BoneContact contact) {
+  if (!state.bones || contact == BoneContact::kIgnored) return f;
+  const ClearanceSample s = state.bones->sample(y_mm);  // far from every bone: s ≥ its band, the zero set is f's
+  if (contact == BoneContact::kFolded && s.near && s.value_mm > 0.0 && f.value < s.value_mm)
+    f = foldOutOfBones(state.field, *state.bones, y_mm, f);
+  return s.near && s.value_mm < f.value ? FieldSample{s.value_mm, s.gradient} : f;
+}
+
 /// The muscle as a set: g(y) = min(f̃(y), s(y)), inside where g > 0 — the field outside the
 /// bones, with what they took folded out of them (tissue_fold.h); or, as `contact` says, f alone
 /// or min(f, s). Gradient of the smaller one. With a kernel list (a carried point's rest
@@ -60,12 +72,9 @@ class MuscleShape final : public ImplicitField {
   double calcValue(const Eigen::Vector3d& p_mm) const override { return calcSample(p_mm).value; }
   Eigen::Vector3d calcGradient(const Eigen::Vector3d& p_mm) const override { return calcSample(p_mm).gradient; }
   FieldSample calcSample(const Eigen::Vector3d& p_mm) const override {
-    FieldSample f = kernels_ ? state_.field.calcSampleAmong(p_mm, kernels_, count_) : state_.field.calcSample(p_mm);
-    if (!state_.bones || contact_ == BoneContact::kIgnored) return f;
-    const ClearanceSample s = state_.bones->sample(p_mm);  // far from every bone: s ≥ its band, the zero set is f's
-    if (contact_ == BoneContact::kFolded && s.near && s.value_mm > 0.0 && f.value < s.value_mm)
-      f = foldOutOfBones(state_.field, *state_.bones, p_mm, f);
-    return s.near && s.value_mm < f.value ? FieldSample{s.value_mm, s.gradient} : f;
+    return applyBones(state_, p_mm,
+                      kernels_ ? state_.field.calcSampleAmong(p_mm, kernels_, count_) : state_.field.calcSample(p_mm),
+                      contact_);
   }
 
  private:
