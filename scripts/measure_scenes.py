@@ -75,7 +75,7 @@ def run_scene(scene, out_root):
 
 def table(results):
     lines = [f"Measured by `scripts/measure_scenes.py` on a {os.cpu_count()}-core machine "
-             f"(load {os.getloadavg()[0]:.1f} when it ended); a frame updates the muscles in parallel. Pieces are "
+             f"(load {os.getloadavg()[0]:.1f} when it ended); a frame updates the muscles in parallel, sharing their per-point loops. Pieces are "
              f"counted on a {PIECE_CELL_MM:g} mm grid in a second run (`check_pieces_cell_mm`).",
              "",
              "| scene | frame median (ms) | frames/s | muscle | update median (ms) | of it: contacts / prediction / descent / volume / fibres (ms) | volume ratio | fibre length ratio, first → last frame | fibre steps > 1 % between frames (largest) | fibre points outside | frames not in one piece (largest stray volume, mm³) |",
