@@ -47,7 +47,7 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
       }
     });
   }
-  const double taut_move = moves_mm_.size() > 0 ? moves_mm_.maxCoeff() : 0.0;
+  const double taut_move = count > 0 ? moves_mm_.maxCoeff() : 0.0;
   values_.resize(count);
   // 1. Monotone ascent of min(f, s) for every point below the margin; ends move at most end_max_move_mm.
   moves_mm_.setZero(count);

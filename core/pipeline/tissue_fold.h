@@ -14,8 +14,9 @@
 /// fit's lobe behind an attachment) stays hidden. A layer pressed into a bone thus comes out on
 /// its face as thick as it went in (up to the bone's band), and the volume step has that much
 /// less to give back elsewhere. The volume measure and the pieces count use f̃; the fibres and
-/// the tracked surface keep to min(f, s) ≤ min(f̃, s) (MuscleShape's BoneContact). At rest f̃ > 0 only where the field overlaps a bone more deeply than the muscle
-/// lies on it outside. f̃ is continuous; its gradient is that of the winning term, for a flat face.
+/// the tracked surface keep to min(f, s) ≤ min(f̃, s) (MuscleShape's BoneContact). At rest
+/// f̃ > 0 only where the field overlaps a bone more deeply than the muscle lies on it outside.
+/// f̃ is continuous; its gradient is that of the winning term, for a flat face.
 #include "collision/bone_clearance.h"
 #include "rbf/deformed_field.h"
 

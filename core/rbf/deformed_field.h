@@ -9,8 +9,8 @@
 
 #include <Eigen/Core>
 
-#include <cmath>
 #include <atomic>
+#include <cmath>
 #include <mutex>
 #include <vector>
 
