@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "pipeline/muscle_pieces.h"
 
-#include "geometry/disjoint_sets.h"
+#include "geometry/grid_pieces.h"
 #include "geometry/iso_surface.h"
 
 #include <algorithm>
@@ -53,30 +53,15 @@ MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
       inside[static_cast<std::size_t>(v + layer * k)] = applyBones(state, points.col(v), f, BoneContact::kFolded).value > 0.0;
     }
   }
-  // The edges of the grid's tetrahedra from a node (iso_surface.h): the three axes, the three
-  // face diagonals and the cube diagonal, each towards +. Node ids fit an int: the grid has at
-  // most 10⁹ nodes (checkIsoSurfaceGrid).
-  DisjointSets sets(inside.size());
-  const auto id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return static_cast<int>(i + n[0] * (j + n[1] * k)); };
-  for (std::int64_t k = 0; k < n[2]; ++k)
-    for (std::int64_t j = 0; j < n[1]; ++j)
-      for (std::int64_t i = 0; i < n[0]; ++i) {
-        if (!inside[static_cast<std::size_t>(id(i, j, k))]) continue;
-        for (int mask = 1; mask < 8; ++mask) {
-          const std::int64_t a = i + (mask & 1), b = j + ((mask >> 1) & 1), c = k + ((mask >> 2) & 1);
-          if (a < n[0] && b < n[1] && c < n[2] && inside[static_cast<std::size_t>(id(a, b, c))]) sets.join(id(i, j, k), id(a, b, c));
-        }
-      }
-  std::vector<std::int64_t> nodes_of_root(inside.size(), 0);
+  const GridPieces labelled = labelGridPieces(inside, n);
   std::int64_t total = 0;
-  for (int v = 0; v < static_cast<int>(inside.size()); ++v)
-    if (inside[static_cast<std::size_t>(v)]) ++nodes_of_root[static_cast<std::size_t>(sets.find(v))], ++total;
-  std::int64_t largest = 0;
-  for (std::int64_t count : nodes_of_root)
-    if (count > 0) ++result.pieces, largest = std::max(largest, count);
+  for (std::int64_t count : labelled.nodes_of_piece) total += count;
+  const int largest = labelled.findLargest();
+  result.pieces = static_cast<int>(labelled.nodes_of_piece.size());
+  const std::int64_t largest_nodes = largest < 0 ? 0 : labelled.nodes_of_piece[std::size_t(largest)];
   const double node_mm3 = cell_mm * cell_mm * cell_mm;
-  result.largest_volume_mm3 = double(largest) * node_mm3;
-  result.stray_volume_mm3 = double(total - largest) * node_mm3;
+  result.largest_volume_mm3 = double(largest_nodes) * node_mm3;
+  result.stray_volume_mm3 = double(total - largest_nodes) * node_mm3;
   return result;
 }
 

@@ -1,0 +1,53 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "geometry/grid_pieces.h"
+
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "geometry/disjoint_sets.h"
+
+namespace rbfmuscle {
+
+int GridPieces::findLargest() const {
+  int largest = -1;
+  for (int p = 0; p < static_cast<int>(nodes_of_piece.size()); ++p)
+    if (largest < 0 || nodes_of_piece[std::size_t(p)] > nodes_of_piece[std::size_t(largest)]) largest = p;
+  return largest;
+}
+
+GridPieces labelGridPieces(const std::vector<char>& inside, const std::array<std::int64_t, 3>& n) {
+  const std::int64_t count = n[0] * n[1] * n[2];
+  if (n[0] < 1 || n[1] < 1 || n[2] < 1 || count != static_cast<std::int64_t>(inside.size()))
+    throw std::invalid_argument("labelGridPieces: " + std::to_string(inside.size()) + " flags for a grid of " +
+                                std::to_string(n[0]) + "×" + std::to_string(n[1]) + "×" + std::to_string(n[2]) + " nodes");
+  if (count > std::numeric_limits<int>::max())
+    throw std::invalid_argument("labelGridPieces: a grid of " + std::to_string(count) + " nodes; at most 2³¹ − 1");
+  DisjointSets sets(inside.size());
+  const auto id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return static_cast<int>(i + n[0] * (j + n[1] * k)); };
+  for (std::int64_t k = 0; k < n[2]; ++k)
+    for (std::int64_t j = 0; j < n[1]; ++j)
+      for (std::int64_t i = 0; i < n[0]; ++i) {
+        if (!inside[std::size_t(id(i, j, k))]) continue;
+        for (int mask = 1; mask < 8; ++mask) {
+          const std::int64_t a = i + (mask & 1), b = j + ((mask >> 1) & 1), c = k + ((mask >> 2) & 1);
+          if (a < n[0] && b < n[1] && c < n[2] && inside[std::size_t(id(a, b, c))]) sets.join(id(i, j, k), id(a, b, c));
+        }
+      }
+  GridPieces pieces;
+  pieces.piece_of_node.assign(inside.size(), -1);
+  std::vector<int> piece_of_root(inside.size(), -1);
+  for (int v = 0; v < static_cast<int>(inside.size()); ++v) {
+    if (!inside[std::size_t(v)]) continue;
+    int& piece = piece_of_root[std::size_t(sets.find(v))];
+    if (piece < 0) {
+      piece = static_cast<int>(pieces.nodes_of_piece.size());
+      pieces.nodes_of_piece.push_back(0);
+    }
+    pieces.piece_of_node[std::size_t(v)] = piece;
+    ++pieces.nodes_of_piece[std::size_t(piece)];
+  }
+  return pieces;
+}
+
+}  // namespace rbfmuscle
