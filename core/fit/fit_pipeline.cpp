@@ -7,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "fit/near_crumbs.h"
 #include "fit/sample_set.h"
 #include "geometry/iso_surface.h"
 #include "geometry/mesh_check.h"
@@ -15,6 +16,8 @@
 #include "geometry/self_intersection.h"
 #include "geometry/mesh_measures.h"
 #include "geometry/solid_mesh.h"
+#include "geometry/winding_number.h"
+#include "io/format_number.h"
 
 namespace rbfmuscle {
 namespace {
@@ -87,13 +90,22 @@ MeshFit fitPrepared(const PreparedMesh& prepared, const std::string& mesh_path,
   const auto start = std::chrono::steady_clock::now();
   const MeshDistance distance(prepared.mesh_M);
   const SampleSet samples = buildSamples(prepared.mesh_M, distance, settings);
-  GreedyFitResult fit = fitGreedy(samples, settings, progress);
+  const WindingNumber winding(prepared.mesh_M);
+  const FindNearCrumbsFn find_near_crumbs = [&](const GaussianField& field) {
+    ExtraSamples found;
+    found.points_mm = findNearCrumbs(field, samples.box_mm, settings.surface_cell_mm, settings.crumb_margin_mm);
+    found.signed_distance_mm = calcSolidSignedDistances(distance, winding, found.points_mm);
+    return found;
+  };
+  GreedyFitResult fit = fitGreedy(samples, settings, progress, find_near_crumbs);
   MeshFit result;
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   result.rounds = fit.rounds;
   result.stop_reason = fit.stop_reason;
   result.final_refit = fit.final_refit;
   result.check_samples_added = fit.check_samples_added;
+  result.near_crumb_samples_added = fit.near_crumb_samples_added;
+  result.near_crumbs_left = fit.near_crumbs_left;
   result.resigned_samples = samples.resigned_samples;
   result.metrics = measureFit(fit.field, distance, samples.box_mm, settings);
   if (result.metrics.surface_M.countTriangles() == 0 || !(result.metrics.surface_volume_mm3 > 0)) {
@@ -105,6 +117,10 @@ MeshFit fitPrepared(const PreparedMesh& prepared, const std::string& mesh_path,
   }
   result.mesh_components = prepared.components;
   result.warnings = describeSuspectFit(result.metrics, prepared.components, mesh_path);
+  if (fit.near_crumbs_left > 0 && result.warnings.empty())  // a surface in pieces has them as its pieces
+    result.warnings.push_back(mesh_path + ": the fitted field keeps " + std::to_string(fit.near_crumbs_left) +
+                              " bumps apart from its surface that come within " + io::formatNumber(settings.crumb_margin_mm) +
+                              " of f = 0 (crumb margin): a motion that raises f there makes islands (more centres help)");
   result.surface.field = std::move(fit.field);
   result.surface.frame_offset_mm = prepared.offset_mm;
   result.surface.source_mesh = getFileName(mesh_path);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numeric>
 #include <stdexcept>
+#include <utility>
 
 #include "io/format_number.h"
 #include "rbf/spatial_grid.h"
@@ -34,8 +35,9 @@ double calcRms(const Eigen::VectorXd& values) {
 
 class GreedyFitter {
  public:
-  GreedyFitter(const SampleSet& samples, const FitSettings& settings)
-      : samples_(samples), settings_(settings), design_(samples.getNumSamples()),
+  GreedyFitter(const SampleSet& samples, const FitSettings& settings, FindNearCrumbsFn find_near_crumbs)
+      : samples_(samples), settings_(settings), find_near_crumbs_(std::move(find_near_crumbs)),
+        design_(samples.getNumSamples()),
         check_design_(samples.getNumCheckPoints()) {
     if (settings.max_centres < 1) throw std::invalid_argument("fit: max_centres must be ≥ 1");
     // Beyond these the targets' squares overflow (a clamp of 1e300 mm made every residual NaN).
@@ -87,8 +89,10 @@ class GreedyFitter {
       }
       for (const CandidateChoice& choice : accepted) addCentre(choice);
       refit(settings_.refit_iterations);
-      if (getNumCentres() >= settings_.check_start_fraction * settings_.max_centres)
+      if (getNumCentres() >= settings_.check_start_fraction * settings_.max_centres) {
         result.check_samples_added += addViolatedCheckPoints();
+        result.near_crumb_samples_added += addNearCrumbs();
+      }
       const FitProgress state = makeProgress(result.rounds);
       if (progress) progress(state);
       if (settings_.tolerance_mm > 0 && state.rms_surface_mm <= settings_.tolerance_mm) {
@@ -101,21 +105,26 @@ class GreedyFitter {
       throw std::invalid_argument("fit: no centre reduces the error of the samples; the fit options (clamp, shapes) "
                                   "do not suit this mesh");
     result.final_refit = refit(settings_.final_refit_iterations);
-    for (int pass = 0; pass < kMaxFinalCheckPasses; ++pass) {
-      const int added = addViolatedCheckPoints();
-      if (added == 0) break;
-      result.check_samples_added += added;
-      result.final_refit = refit(settings_.final_refit_iterations);
+    bool settled = false;
+    for (int pass = 0; pass < kMaxFinalCheckPasses && !settled; ++pass) {
+      const int checks = addViolatedCheckPoints(), crumbs = addNearCrumbs();
+      result.check_samples_added += checks;
+      result.near_crumb_samples_added += crumbs;
+      settled = checks == 0 && crumbs == 0;
+      if (!settled) result.final_refit = refit(settings_.final_refit_iterations);
     }
+    if (find_near_crumbs_ && !settled)
+      result.near_crumbs_left = static_cast<int>(find_near_crumbs_(makeField()).points_mm.cols());
     const FitProgress final_state = makeProgress(result.rounds);
     result.rms_surface_mm = final_state.rms_surface_mm;
     result.rms_all_mm = final_state.rms_all_mm;
-    result.field = GaussianField(offset_, centres_, lambda_, centre_shapes_, settings_.cutoff);
+    result.field = makeField();
     return result;
   }
 
  private:
   int getNumCentres() const { return static_cast<int>(centre_shapes_.size()); }
+  GaussianField makeField() const { return GaussianField(offset_, centres_, lambda_, centre_shapes_, settings_.cutoff); }
 
   /// Whether a centre at `sample` with a weight of sign `weight` obeys the
   /// sign rule: a centre inside the mesh may only add (λ > 0), one outside
@@ -299,7 +308,39 @@ class GreedyFitter {
       violated.resize(cap);
       std::sort(violated.begin(), violated.end());
     }
-    const Eigen::Index S = samples_.getNumSamples(), add = static_cast<Eigen::Index>(violated.size());
+    Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(violated.size()));
+    Eigen::VectorXd signed_distance(points.cols()), values(points.cols());
+    for (Eigen::Index n = 0; n < points.cols(); ++n) {
+      const int i = violated[static_cast<std::size_t>(n)];
+      check_added_[static_cast<std::size_t>(i)] = 1;
+      points.col(n) = samples_.check_points_mm.col(i);
+      signed_distance[n] = samples_.check_signed_distance_mm[i];
+      values[n] = fitted[i];
+    }
+    appendSamples(points, signed_distance, values, SampleKind::kCheck);
+    return static_cast<int>(points.cols());
+  }
+
+  /// Makes the peaks of the near crumbs of the current field (find_near_crumbs_) samples, at
+  /// most candidates_per_round of them, the highest first. Returns how many.
+  int addNearCrumbs() {
+    if (!find_near_crumbs_) return 0;
+    const GaussianField field = makeField();
+    ExtraSamples found = find_near_crumbs_(field);
+    const Eigen::Index add = std::min<Eigen::Index>(found.points_mm.cols(), std::max(1, settings_.candidates_per_round));
+    if (add == 0) return 0;
+    Eigen::VectorXd values(add);  // Σ λφ, as the design's rows hold it
+    for (Eigen::Index n = 0; n < add; ++n) values[n] = field.calcValue(found.points_mm.col(n)) - offset_;
+    appendSamples(found.points_mm.leftCols(add), found.signed_distance_mm.head(add), values, SampleKind::kNearCrumb);
+    return static_cast<int>(add);
+  }
+
+  /// Appends samples at `points_mm` with signed distances s, where the field's Σ λφ is `fitted`:
+  /// rows of the design, candidates for a centre and terms of every later refit.
+  void appendSamples(const Eigen::Matrix3Xd& points_mm, const Eigen::VectorXd& signed_distance_mm,
+                     const Eigen::VectorXd& fitted, SampleKind kind) {
+    const double tau = settings_.clamp_mm;
+    const Eigen::Index S = samples_.getNumSamples(), add = points_mm.cols();
     samples_.points_mm.conservativeResize(3, S + add);
     samples_.signed_distance_mm.conservativeResize(S + add);
     samples_.target.conservativeResize(S + add);
@@ -308,15 +349,13 @@ class GreedyFitter {
     std::vector<int> cols;
     std::vector<double> values;
     for (Eigen::Index n = 0; n < add; ++n) {
-      const int i = violated[static_cast<std::size_t>(n)];
-      check_added_[static_cast<std::size_t>(i)] = 1;
-      const Eigen::Vector3d p = samples_.check_points_mm.col(i);
+      const Eigen::Vector3d p = points_mm.col(n);
       samples_.points_mm.col(S + n) = p;
-      samples_.signed_distance_mm[S + n] = samples_.check_signed_distance_mm[i];
-      samples_.target[S + n] = samples_.check_target[i];
-      samples_.kinds.push_back(SampleKind::kCheck);
-      y_[S + n] = samples_.check_target[i] - offset_;
-      residual_[S + n] = y_[S + n] - fitted[i];
+      samples_.signed_distance_mm[S + n] = signed_distance_mm[n];
+      samples_.target[S + n] = std::clamp(-signed_distance_mm[n], -tau, tau);
+      samples_.kinds.push_back(kind);
+      y_[S + n] = samples_.target[S + n] - offset_;
+      residual_[S + n] = y_[S + n] - fitted[n];
       cols.clear();
       values.clear();
       for (int k = 0; k < getNumCentres(); ++k) {
@@ -329,7 +368,6 @@ class GreedyFitter {
       design_.appendRow(cols, values);
     }
     sample_grid_.build(samples_.points_mm, 4.0);
-    return static_cast<int>(add);
   }
 
   RefitReport refit(int max_iterations) {
@@ -357,6 +395,7 @@ class GreedyFitter {
 
   SampleSet samples_;  ///< the fitting samples, joined by violated check points
   const FitSettings& settings_;
+  FindNearCrumbsFn find_near_crumbs_;
   std::vector<double> shapes_;
   double alpha_max_ = 1.0;
   double alpha_min_ = 1.0;
@@ -377,9 +416,9 @@ class GreedyFitter {
 
 }  // namespace
 
-GreedyFitResult fitGreedy(const SampleSet& samples, const FitSettings& settings,
-                          const FitProgressFn& progress) {
-  return GreedyFitter(samples, settings).run(progress);
+GreedyFitResult fitGreedy(const SampleSet& samples, const FitSettings& settings, const FitProgressFn& progress,
+                          const FindNearCrumbsFn& find_near_crumbs) {
+  return GreedyFitter(samples, settings, find_near_crumbs).run(progress);
 }
 
 }  // namespace rbfmuscle

@@ -24,6 +24,16 @@ struct FitProgress {
 };
 using FitProgressFn = std::function<void(const FitProgress&)>;
 
+/// Points off the samples where the fit must hold f to the mesh's side, with their signed
+/// distances s (negative inside).
+struct ExtraSamples {
+  Eigen::Matrix3Xd points_mm;
+  Eigen::VectorXd signed_distance_mm;
+};
+/// Finds, in a fitted field, the peaks of bumps that come within a margin of its surface
+/// (near_crumbs.h), with their signed distances.
+using FindNearCrumbsFn = std::function<ExtraSamples(const GaussianField&)>;
+
 /// The fitted field and how the fit ended.
 struct GreedyFitResult {
   GaussianField field;          ///< f = −τ + Σ λₖ φₖ in the muscle frame M
@@ -31,6 +41,8 @@ struct GreedyFitResult {
   std::string stop_reason;      ///< "centre budget", "tolerance" or "no candidate reduces the error"
   RefitReport final_refit;      ///< how the last weight refit ended
   int check_samples_added = 0;  ///< check points made samples because the field had them on the wrong side
+  int near_crumb_samples_added = 0;  ///< peaks of near crumbs made samples
+  int near_crumbs_left = 0;     ///< near crumbs in the returned field (0 without a finder)
   double rms_surface_mm = 0.0;
   double rms_all_mm = 0.0;
 };
@@ -58,7 +70,13 @@ struct GreedyFitResult {
 /// candidates for the next centres and terms of every later refit.
 /// After the last round this repeats with the final refit, at most kMaxFinalCheckPasses
 /// times. check_samples_added counts them.
+///
+/// Check points hold only the side. A bump of f that stays just below 0 apart from the surface
+/// (the psoas major's fit had three, 0.02–0.16 below) passes them, and the least rise of f in
+/// a motion makes it an island. So, with the check points, the peaks `find_near_crumbs` finds
+/// become samples (kind kNearCrumb) at their true targets, at most candidates_per_round a
+/// time; near_crumbs_left counts those the returned field still has.
 GreedyFitResult fitGreedy(const SampleSet& samples, const FitSettings& settings,
-                          const FitProgressFn& progress = {});
+                          const FitProgressFn& progress = {}, const FindNearCrumbsFn& find_near_crumbs = {});
 
 }  // namespace rbfmuscle

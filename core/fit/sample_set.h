@@ -19,7 +19,7 @@ class MeshDistance;
 class WindingNumber;
 
 /// Where a sample came from.
-enum class SampleKind : unsigned char { kSurface, kOffsetIn, kOffsetOut, kHalton, kCheck };
+enum class SampleKind : unsigned char { kSurface, kOffsetIn, kOffsetOut, kHalton, kCheck, kNearCrumb };
 
 /// Samples in the muscle frame M (mm).
 struct SampleSet {

@@ -37,6 +37,7 @@ const char* const kFitUsage =
     "  --check-band N          check points within the clamp of the surface [30000]\n"
     "  --no-check-layers       no check points 2D, 4D, 8D … (< TAU) off the vertices along their normals\n"
     "  --check-start F         checks begin at this fraction of the centre budget [0.75]\n"
+    "  --crumb-margin-mm E     carve bumps of f apart from the surface that come within E of it [0.5]\n"
     "  --shapes A,B,...        shape set α in mm^-2 [0.005 … 0.5]\n"
     "  --gamma G               regularisation γ of eq. 7.12, 1 = none [0.9]\n"
     "  --batch-fraction F      centres added per round / current count [0.1]\n"
@@ -112,6 +113,7 @@ FitJob parseFitArguments(const std::vector<std::string>& args, bool require_outp
     else if (arg == "--halton") settings.halton_samples = parseCount(arg, value(), 0);
     else if (arg == "--check-band") settings.check_band_samples = parseCount(arg, value(), 0);
     else if (arg == "--check-start") settings.check_start_fraction = parseNumber(arg, value());
+    else if (arg == "--crumb-margin-mm") settings.crumb_margin_mm = parseNumber(arg, value());
     else if (arg == "--no-check-layers") settings.check_normal_layers = false;
     else if (arg == "--shapes") settings.shapes_per_mm2 = parseList(arg, value());
     else if (arg == "--gamma") settings.regularisation_gamma = parseNumber(arg, value());
@@ -138,6 +140,7 @@ FitJob parseFitArguments(const std::vector<std::string>& args, bool require_outp
   if (!(settings.surface_cell_mm > 0)) throw UsageError("fit: --cell-mm must be > 0");
   if (!(settings.check_start_fraction >= 0 && settings.check_start_fraction <= 1))
     throw UsageError("fit: --check-start must be in [0, 1]");
+  if (!(settings.crumb_margin_mm >= 0)) throw UsageError("fit: --crumb-margin-mm must be ≥ 0");
   if (!job.global_search.empty() && job.global_search.size() != 3)
     throw UsageError("fit: --global-search expects LO,HI,K");
   // K full fits; beyond 100 the golden-section bracket has long stopped shrinking in double precision.
@@ -205,10 +208,12 @@ int runFitCommand(int argc, char** argv) {
   const MeshFit fit = runFitJob(job, progress, [quiet](double alpha, double metric) {
     if (!quiet) std::fprintf(stderr, "fit: global shape %.6g mm^-2 -> C_m %.6f\n", alpha, metric);
   });
-  if (!quiet) std::fprintf(stderr, "\nfit: stopped by %s after %d rounds; last refit: %s after %d iterations; %d check points made samples; %d samples resigned\n",
+  if (!quiet) std::fprintf(stderr, "\nfit: stopped by %s after %d rounds; last refit: %s after %d iterations; %d check points and %d "
+                           "peaks of near crumbs made samples; %d samples resigned\n",
                            fit.stop_reason.c_str(), fit.rounds,
                            fit.final_refit.reached_tolerance ? "tolerance" : "iteration cap",
-                           fit.final_refit.iterations, fit.check_samples_added, fit.resigned_samples);
+                           fit.final_refit.iterations, fit.check_samples_added, fit.near_crumb_samples_added,
+                           fit.resigned_samples);
   for (const std::string& warning : fit.warnings) printMeshWarning(warning);
   writeFitOutputs(job, fit);
   std::cout << fit.surface.metrics_json << std::endl;

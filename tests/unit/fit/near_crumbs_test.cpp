@@ -1,0 +1,66 @@
+// SPDX-License-Identifier: Apache-2.0
+/// Near crumbs: bumps of f apart from the surface that a small rise of f makes islands. The
+/// finder finds their peaks within its margin and no others; the fit carves them, which the
+/// psoas major's fit needs (three bumps 0.02–0.16 below f = 0 beside its surface without it).
+#include <gtest/gtest.h>
+
+#include <stdexcept>
+
+#include "fit/fit_pipeline.h"
+#include "fit/near_crumbs.h"
+
+namespace rbfmuscle {
+namespace {
+
+const Eigen::AlignedBox3d kBox(Eigen::Vector3d(-30, -30, -30), Eigen::Vector3d(50, 30, 30));
+
+/// A ball of radius 10 about the origin (f = −10 + 20 exp(−α|x|²), α = ln 2 / 100) and a
+/// narrow bump at x = 30 whose peak is `peak` (f = −10 + (10 + peak) exp(−|x − (30, 0, 0)|²/4)).
+GaussianField makeBallAndBump(double peak) {
+  GaussianField field(-10.0);
+  field.addCentre(Eigen::Vector3d::Zero(), 20.0, std::log(2.0) / 100.0);
+  field.addCentre(Eigen::Vector3d(30, 0, 0), 10.0 + peak - 20.0 * std::exp(-std::log(2.0) * 9.0), 0.25);
+  return field;
+}
+
+TEST(NearCrumbs, ABumpWithinTheMarginIsFoundAtItsPeak) {
+  const Eigen::Matrix3Xd peaks = findNearCrumbs(makeBallAndBump(-0.2), kBox, 1.0, 0.5);
+  ASSERT_EQ(peaks.cols(), 1);
+  EXPECT_LE((peaks.col(0) - Eigen::Vector3d(30, 0, 0)).norm(), 1.0);
+}
+
+TEST(NearCrumbs, ABumpBelowTheMarginIsNotAndAnIslandAlwaysIs) {
+  EXPECT_EQ(findNearCrumbs(makeBallAndBump(-0.2), kBox, 1.0, 0.1).cols(), 0);
+  EXPECT_EQ(findNearCrumbs(makeBallAndBump(-0.8), kBox, 1.0, 0.5).cols(), 0);
+  EXPECT_EQ(findNearCrumbs(makeBallAndBump(0.3), kBox, 1.0, 0.0).cols(), 1);
+  EXPECT_EQ(findNearCrumbs(makeBallAndBump(0.3), kBox, 1.0, 0.5).cols(), 1);  // the same node at every level
+}
+
+TEST(NearCrumbs, BadArgumentsAreRefused) {
+  EXPECT_THROW(findNearCrumbs(makeBallAndBump(-0.2), kBox, 1.0, -0.1), std::invalid_argument);
+  EXPECT_THROW(findNearCrumbs(makeBallAndBump(-0.2), kBox, 0.0, 0.5), std::invalid_argument);
+}
+
+std::string modelPath(const std::string& relative) {
+  return std::string(RBFMUSCLE_SOURCE_DIR) + "/models/" + relative;
+}
+
+TEST(NearCrumbs, ThePsoasFitHasNoneWithTheDefaultMarginButSomeWithoutIt) {
+  const std::string mesh = modelPath("hip/meshes/psoas_major_r.ply");
+  const FitSettings defaults;
+  const MeshFit fit = fitMeshFile(mesh, defaults, false);
+  EXPECT_GT(fit.near_crumb_samples_added, 0);
+  EXPECT_EQ(fit.near_crumbs_left, 0);
+  const Eigen::AlignedBox3d box(fit.metrics.surface_M.vertices_mm.rowwise().minCoeff().transpose().array() - 20.0,
+                                fit.metrics.surface_M.vertices_mm.rowwise().maxCoeff().transpose().array() + 20.0);
+  EXPECT_EQ(findNearCrumbs(fit.surface.field, box, 1.0, defaults.crumb_margin_mm).cols(), 0);
+  EXPECT_EQ(fit.metrics.components, 1);
+
+  FitSettings islands_only = defaults;
+  islands_only.crumb_margin_mm = 0.0;
+  const MeshFit plain = fitMeshFile(mesh, islands_only, false);
+  EXPECT_GE(findNearCrumbs(plain.surface.field, box, 1.0, defaults.crumb_margin_mm).cols(), 2);
+}
+
+}  // namespace
+}  // namespace rbfmuscle
