@@ -72,7 +72,7 @@ struct GreedyFitResult {
 /// times. check_samples_added counts them.
 ///
 /// Check points hold only the side. A bump of f that stays just below 0 apart from the surface
-/// (the psoas major's fit had three, 0.02–0.16 below) passes them, and the least rise of f in
+/// (the psoas major's fit had four within 0.5) passes them, and the least rise of f in
 /// a motion makes it an island. So, with the check points, the peaks `find_near_crumbs` finds
 /// become samples (kind kNearCrumb) at their true targets, at most candidates_per_round a
 /// time; near_crumbs_left counts those the returned field still has.

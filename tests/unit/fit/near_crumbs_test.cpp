@@ -1,7 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 /// Near crumbs: bumps of f apart from the surface that a small rise of f makes islands. The
 /// finder finds their peaks within its margin and no others; the fit carves them, which the
-/// psoas major's fit needs (three bumps 0.02–0.16 below f = 0 beside its surface without it).
+/// psoas major's fit needs (four bumps within 0.5 of f = 0 beside its surface without it).
 #include <gtest/gtest.h>
 
 #include <stdexcept>
