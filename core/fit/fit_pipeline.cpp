@@ -89,8 +89,8 @@ MeshFit fitPrepared(const PreparedMesh& prepared, const std::string& mesh_path,
                     const FitSettings& settings, const FitProgressFn& progress) {
   const auto start = std::chrono::steady_clock::now();
   const MeshDistance distance(prepared.mesh_M);
-  const SampleSet samples = buildSamples(prepared.mesh_M, distance, settings);
   const WindingNumber winding(prepared.mesh_M);
+  const SampleSet samples = buildSamples(prepared.mesh_M, distance, winding, settings);
   const FindNearCrumbsFn find_near_crumbs = [&](const GaussianField& field) {
     ExtraSamples found;
     found.points_mm = findNearCrumbs(field, samples.box_mm, settings.surface_cell_mm, settings.crumb_margin_mm);

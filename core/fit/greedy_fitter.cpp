@@ -339,11 +339,11 @@ class GreedyFitter {
   /// rows of the design, candidates for a centre and terms of every later refit.
   void appendSamples(const Eigen::Matrix3Xd& points_mm, const Eigen::VectorXd& signed_distance_mm,
                      const Eigen::VectorXd& fitted, SampleKind kind) {
-    const double tau = settings_.clamp_mm;
     const Eigen::Index S = samples_.getNumSamples(), add = points_mm.cols();
     samples_.points_mm.conservativeResize(3, S + add);
     samples_.signed_distance_mm.conservativeResize(S + add);
     samples_.target.conservativeResize(S + add);
+    samples_.target.tail(add) = calcTargets(signed_distance_mm, settings_.clamp_mm);
     y_.conservativeResize(S + add);
     residual_.conservativeResize(S + add);
     std::vector<int> cols;
@@ -352,7 +352,6 @@ class GreedyFitter {
       const Eigen::Vector3d p = points_mm.col(n);
       samples_.points_mm.col(S + n) = p;
       samples_.signed_distance_mm[S + n] = signed_distance_mm[n];
-      samples_.target[S + n] = std::clamp(-signed_distance_mm[n], -tau, tau);
       samples_.kinds.push_back(kind);
       y_[S + n] = samples_.target[S + n] - offset_;
       residual_[S + n] = y_[S + n] - fitted[n];

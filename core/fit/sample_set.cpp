@@ -75,7 +75,11 @@ std::vector<double> calcCheckLayerOffsets(double normal_offset_mm, double clamp_
   return offsets;
 }
 
-SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance,
+Eigen::VectorXd calcTargets(const Eigen::VectorXd& signed_distance_mm, double clamp_mm) {
+  return (-signed_distance_mm).cwiseMax(-clamp_mm).cwiseMin(clamp_mm);
+}
+
+SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance, const WindingNumber& winding,
                        const FitSettings& settings) {
   const Eigen::Index V = mesh_M.vertices_mm.cols();
   const Eigen::Matrix3Xd normals = calcVertexNormals(mesh_M);
@@ -94,13 +98,12 @@ SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance,
   std::fill_n(samples.kinds.begin() + V, V, SampleKind::kOffsetIn);
   std::fill_n(samples.kinds.begin() + 2 * V, V, SampleKind::kOffsetOut);
 
-  const WindingNumber winding(mesh_M);
   samples.signed_distance_mm =
       calcSolidSignedDistances(distance, winding, samples.points_mm, &samples.resigned_samples);
   // Vertices lie on the surface by definition; the query only adds round-off there.
   samples.signed_distance_mm.head(V).setZero();
   const double tau = settings.clamp_mm;
-  samples.target = (-samples.signed_distance_mm).cwiseMax(-tau).cwiseMin(tau);
+  samples.target = calcTargets(samples.signed_distance_mm, tau);
 
   const Eigen::Matrix3Xd band = makeBandPoints(samples.box_mm, distance, tau, settings.check_band_samples);
   const std::vector<double> layers =
@@ -113,7 +116,7 @@ SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance,
     samples.check_points_mm.middleCols(band.cols() + (2 * l + 1) * V, V) = mesh_M.vertices_mm + layers[l] * normals;
   }
   samples.check_signed_distance_mm = calcSolidSignedDistances(distance, winding, samples.check_points_mm);
-  samples.check_target = (-samples.check_signed_distance_mm).cwiseMax(-tau).cwiseMin(tau);
+  samples.check_target = calcTargets(samples.check_signed_distance_mm, tau);
   return samples;
 }
 

@@ -75,13 +75,16 @@ constexpr std::size_t kMaxCheckLayers = 16;
 /// Offsets of the check layers along the vertex normals: 2d, 4d, 8d, … below τ (mm).
 std::vector<double> calcCheckLayerOffsets(double normal_offset_mm, double clamp_mm);
 
-/// Builds the samples for `mesh_M` (already in the muscle frame). Targets come
+/// The fit's targets t = clamp(−s, −τ, τ) of signed distances s (negative inside) for the clamp τ.
+Eigen::VectorXd calcTargets(const Eigen::VectorXd& signed_distance_mm, double clamp_mm);
+
+/// Builds the samples for `mesh_M` (already in the muscle frame), its sides from `winding`. Targets come
 /// from the exact signed distance (so an inward offset that crosses a thin
 /// part still gets its true value), signed by calcSolidSignedDistances. The check
 /// points are settings.check_band_samples band points (makeBandPoints, band τ) followed,
 /// when settings.check_normal_layers, by every vertex moved by −o and +o along its normal
 /// for each o of calcCheckLayerOffsets.
-SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance,
+SampleSet buildSamples(const TriangleMesh& mesh_M, const MeshDistance& distance, const WindingNumber& winding,
                        const FitSettings& settings);
 
 }  // namespace rbfmuscle

@@ -64,7 +64,7 @@ TEST(PsoasMajor, SamplesTakeTheirSideFromTheWindingNumberNotFromFoldedPseudoNorm
   TriangleMesh mesh = loadSolidMesh(modelPath("hip/meshes/psoas_major_r.ply"));
   const MeshDistance distance(mesh);
   const WindingNumber winding(mesh);
-  const SampleSet samples = buildSamples(mesh, distance, FitSettings{});
+  const SampleSet samples = buildSamples(mesh, distance, winding, FitSettings{});
   EXPECT_GT(samples.resigned_samples, 100) << "the folds of the psoas turn ~200 pseudo-normal signs";
   int checked = 0;
   for (int i = 0; i < samples.getNumSamples(); i += 7) {
