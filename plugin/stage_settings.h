@@ -14,7 +14,7 @@ class FibreSubcomponent final : public Subcomponent {
   explicit FibreSubcomponent(Component* owner)
       : Subcomponent(owner, "fibres", "fibres from the origin area to the insertion area, through the muscle") {}
   Property<int> count{this, "count", 100, "fibres (0 = none)", PropertyRange{0, 10000}};
-  Property<int> segments{this, "segments", 15, "segments per fibre", PropertyRange{1, 1000}};
+  Property<int> segments{this, "segments", 15, "segments per fibre (its shape is made at 15 and sampled at this count)", PropertyRange{1, 1000}};
 };
 
 /// `<volume>`: the volume measure and its correction.

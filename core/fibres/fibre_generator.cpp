@@ -15,7 +15,7 @@ namespace rbfmuscle {
 
 double estimateSpreadingPairs(const FibreSettings& s) {
   return static_cast<double>(std::max(s.smoothing_iterations, 0)) * static_cast<double>(s.count) *
-         static_cast<double>(s.count) * std::max(s.segments - 1, 0);
+         static_cast<double>(s.count) * (kShapeSegments - 1);
 }
 
 namespace {
@@ -44,10 +44,9 @@ void checkSettings(const FibreSettings& s) {
     std::snprintf(text, sizeof text, "%.3g", pairs);
     char bound[64];
     std::snprintf(bound, sizeof bound, "%.3g", kMaxSpreadingPairs);
-    fail("count " + std::to_string(s.count) + ", segments " + std::to_string(s.segments) + " and " +
-         std::to_string(s.smoothing_iterations) + " relaxation rounds need about " + text +
-         " point-pair evaluations to generate the fibres, more than the " + bound +
-         " allowed (a minute or two); use fewer fibres or segments");
+    fail("count " + std::to_string(s.count) + " and " + std::to_string(s.smoothing_iterations) +
+         " relaxation rounds need about " + text + " point-pair evaluations to generate the fibres, more than the " +
+         bound + " allowed (a minute or two); use fewer fibres or relaxation rounds");
   }
 }
 
@@ -301,7 +300,8 @@ RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& or
   const Eigen::Vector3d e2 = d.cross(e1);
   const std::vector<int> order0 = orderByStrips(p0, e1, e2), order1 = orderByStrips(p1, e1, e2);
 
-  const int per = settings.segments + 1;
+  // The shape is made at kShapeSegments (steps 4–5), then sampled at S (step 6).
+  const int per = kShapeSegments + 1;
   fibres.points_mm.resize(3, static_cast<Eigen::Index>(settings.count) * per);
   for (int i = 0; i < settings.count; ++i) {
     const int a = starts[static_cast<size_t>(order0[static_cast<size_t>(i)])];
@@ -311,7 +311,7 @@ RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& or
     for (size_t k = 0; k < path.size(); ++k) polyline.col(static_cast<Eigen::Index>(k)) = grid.nodes_mm.col(path[k]);
     polyline.col(0) = p0.col(order0[static_cast<size_t>(i)]);
     polyline.col(polyline.cols() - 1) = p1.col(order1[static_cast<size_t>(i)]);
-    fibres.points_mm.middleCols(static_cast<Eigen::Index>(i) * per, per) = resample(polyline, settings.segments);
+    fibres.points_mm.middleCols(static_cast<Eigen::Index>(i) * per, per) = resample(polyline, kShapeSegments);
   }
   // Spreading scale: the radius r₀ each fibre would own, with the chords as lengths.
   const double chord = (p1.rowwise().mean() - p0.rowwise().mean()).norm();
@@ -319,7 +319,7 @@ RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& or
   for (int round = 0; round < settings.smoothing_iterations; ++round) {
     const Eigen::Matrix3Xd before = fibres.points_mm;
     for (int i = 0; i < settings.count; ++i)
-      for (int j = 1; j < settings.segments; ++j) {
+      for (int j = 1; j < kShapeSegments; ++j) {
         const Eigen::Index c = static_cast<Eigen::Index>(i) * per + j;
         const Eigen::Vector3d tangent = (before.col(c + 1) - before.col(c - 1)).normalized();
         Eigen::Vector3d push = Eigen::Vector3d::Zero();
@@ -336,6 +336,21 @@ RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& or
         projectInside(field, settings.projection, p);
         fibres.points_mm.col(c) = p;
       }
+  }
+  if (settings.segments != kShapeSegments) {
+    const Eigen::Matrix3Xd shapes = fibres.points_mm;
+    const int sampled_per = settings.segments + 1;
+    fibres.points_mm.resize(3, static_cast<Eigen::Index>(settings.count) * sampled_per);
+    for (int i = 0; i < settings.count; ++i) {
+      const Eigen::Index first = static_cast<Eigen::Index>(i) * sampled_per;
+      fibres.points_mm.middleCols(first, sampled_per) =
+          resample(shapes.middleCols(static_cast<Eigen::Index>(i) * per, per), settings.segments);
+      for (int j = 1; j < settings.segments; ++j) {
+        Eigen::Vector3d p = fibres.points_mm.col(first + j);
+        projectInside(field, settings.projection, p);
+        fibres.points_mm.col(first + j) = p;
+      }
+    }
   }
   Eigen::VectorXd values;
   field.calcValues(fibres.points_mm, values);
