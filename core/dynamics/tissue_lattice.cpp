@@ -35,10 +35,12 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
     : num_bones_(attachments.num_bones), settings_(settings), origin_mm_(origin_mm), cell_mm_(cell_mm) {
   if (!(cell_mm > 0.0) || !std::isfinite(cell_mm) || !origin_mm.allFinite())
     throw std::invalid_argument("TissueLattice: the spacing must be > 0 and the origin finite");
-  if (!(settings.max_thinning >= 1.0) || settings.smoothing_passes < 0 || !(settings.blend_length_mm > 0.0) ||
+  if (!(settings.max_thinning >= 1.0) || settings.smoothing_passes < 0 || !(settings.smoothing_cell_mm >= 0.0) ||
+      !std::isfinite(settings.smoothing_cell_mm) || !(settings.blend_length_mm > 0.0) ||
       !(settings.taut_stretch > 0.0) || !std::isfinite(settings.taut_stretch))
     throw std::invalid_argument(
-        "TissueLattice: need max_thinning >= 1, smoothing_passes >= 0, blend_length_mm > 0, taut_stretch > 0");
+        "TissueLattice: need max_thinning >= 1, smoothing_passes >= 0, smoothing_cell_mm >= 0, blend_length_mm > 0, "
+        "taut_stretch > 0");
   if (cover_mm.cols() == 0 || !cover_mm.allFinite())
     throw std::invalid_argument("TissueLattice: the points to cover must be finite and not empty");
   // Lattice box: the cover points' cells and their neighbours, corners included.
@@ -97,8 +99,10 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
         const double on_bone_far = calcOnBoneWeight(rest_clearance->calcValue(mid + h * axis), h);
         anchor_vectors_mm_.col(n) += h * (on_bone_far - on_bone) * axis;
       }
-    smooth(mid_vectors_mm, settings_.smoothing_passes);
-    smooth(anchor_vectors_mm_, settings_.smoothing_passes);
+    const double scale = settings_.smoothing_cell_mm > 0.0 ? settings_.smoothing_cell_mm / cell_mm_ : 1.0;
+    const int passes = static_cast<int>(std::lround(settings_.smoothing_passes * scale * scale));
+    smooth(mid_vectors_mm, passes);
+    smooth(anchor_vectors_mm_, passes);
     // k = −div v: 1 where the mid-set is a surface (v = −o n), 2 where it is a line.
     thin_directions_.resize(k);
     for (int n = 0; n < k; ++n)

@@ -62,7 +62,13 @@ struct LatticeSettings {
   double blend_power = 2.0;      ///< p of the blend weights (attachment.h, calcBlendWeights), > 0
   bool incompressible = true;    ///< step 2 of the file comment (false: the blend alone)
   double max_thinning = 4.0;     ///< t is clamped to [1/max, max], ≥ 1
-  int smoothing_passes = 3;      ///< Laplacian passes over the rest mid-surface and anchor vectors, ≥ 0
+  /// Laplacian passes over the rest mid-surface and anchor vectors at a cell of
+  /// smoothing_cell_mm, ≥ 0. A finer cell takes more passes, round(passes · (smoothing_cell_mm /
+  /// cell)²), so the smoothing spans the same length: at the same 3 passes, 8000 quadrature
+  /// points (a cell 0.63 times the 2000 points') made the gluteus maximus's fibres step by 4 %
+  /// between 1° frames of the main job, against 0.77 % with 2000.
+  int smoothing_passes = 3;
+  double smoothing_cell_mm = 0.0;  ///< cell at which smoothing_passes apply (mm); 0: the lattice's own
   /// The centre of the joint between the two bones (M, mm): blend weights by angle about it
   /// (calcJointAngleBlendWeights); none: by distance (calcBlendWeights, blend_length_mm, blend_power).
   std::optional<Eigen::Vector3d> joint_centre_mm;

@@ -82,9 +82,14 @@ MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const Pipelin
   Eigen::Matrix3Xd cover(3, n + m + fibres.points_mm.cols() + rest_surface.vertices_mm.cols());
   cover << fit.getCentres(), quadrature.points_mm, fibres.points_mm, rest_surface.vertices_mm;
   const MeshDistance muscle_surface(definition.rest_mesh_M, false);  // closest points only: sides by winding number
+  // The map's smoothing spans the length it spans at the default resolution, whatever the
+  // quadrature's (the cell scales as the cube root of the points).
+  LatticeSettings lattice_settings = settings.lattice;
+  lattice_settings.smoothing_cell_mm =
+      quadrature.cell_mm * std::cbrt(static_cast<double>(settings.quadrature_points) / PipelineSettings{}.quadrature_points);
   lattice_ = std::make_shared<TissueLattice>(fit.getCentres(), definition.attachments, quadrature.box_mm.min(),
                                              quadrature.cell_mm, cover, &muscle_surface, state_->bones,
-                                             settings.lattice);
+                                             lattice_settings);
 
   NeighbourLists quadrature_lists = findMaterialNeighbours(rest, quadrature.points_mm);
   stages_.resize(kSlots);

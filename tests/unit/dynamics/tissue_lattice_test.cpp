@@ -39,7 +39,7 @@ struct FloorAndCeilingAroundTheRod final : ImplicitField {
 };
 
 TissueLattice makeLattice(const Rod& rod, bool incompressible, const LatticeSettings& base = {},
-                          const ImplicitField* rest_clearance = nullptr) {
+                          const ImplicitField* rest_clearance = nullptr, double cell_mm = 2.0) {
   LatticeSettings settings = base;
   settings.incompressible = incompressible;
   const MeshDistance surface(rod.mesh);
@@ -49,8 +49,8 @@ TissueLattice makeLattice(const Rod& rod, bool incompressible, const LatticeSett
       for (double z = -8; z <= 8; z += 2) grid.emplace_back(x, y, z);
   Eigen::Matrix3Xd cover(3, static_cast<Eigen::Index>(grid.size()));
   for (size_t i = 0; i < grid.size(); ++i) cover.col(static_cast<Eigen::Index>(i)) = grid[i];
-  return TissueLattice(rod.field.getCentres(), rod.attachments, Eigen::Vector3d::Zero(), 2.0, cover, &surface, rest_clearance,
-                       settings);
+  return TissueLattice(rod.field.getCentres(), rod.attachments, Eigen::Vector3d::Zero(), cell_mm, cover, &surface,
+                       rest_clearance, settings);
 }
 
 TEST(TissueLattice, ACommonRigidMotionMovesEveryPointAndFrameRigidly) {
@@ -167,6 +167,35 @@ TEST(TissueLattice, ACompressedRodLyingOnABoneThickensAwayFromTheBone) {
   EXPECT_NEAR(on_floor.lower_mm, -6.0, 0.05 * thickening_mm) << "on the floor: stays on it";
   EXPECT_NEAR(on_floor.upper_mm - on_floor.lower_mm, 12.0 + thickening_mm, 0.05 * thickening_mm) << "and thickens as much";
   EXPECT_NEAR(on_floor.volume_change, free_rod.volume_change, 0.02) << "the anchor does not change the volume";
+}
+
+// The smoothing of the rest mid-surface and anchor vectors spans the same length on a finer
+// lattice: the compressed rod's faces then move alike on lattices of 2 and 1 mm.
+TEST(TissueLattice, SmoothingSpansTheSameLengthOnAFinerLattice) {
+  const Rod rod;
+  const Eigen::Isometry3d push(Eigen::Translation3d(-16, 0, 0));
+  Eigen::Matrix3Xd faces(3, 0);  // the rod's faces between its attachments, 1 mm apart
+  std::vector<Eigen::Vector3d> on_faces;
+  for (double x = -20; x <= 20; x += 1)
+    for (double y = -8; y <= 8; y += 1)
+      for (double z : {-6.0, 6.0}) on_faces.emplace_back(x, y, z);
+  faces.resize(3, static_cast<Eigen::Index>(on_faces.size()));
+  for (size_t i = 0; i < on_faces.size(); ++i) faces.col(static_cast<Eigen::Index>(i)) = on_faces[i];
+  const auto carryFaces = [&](double cell_mm, double smoothing_cell_mm) {
+    LatticeSettings settings;
+    settings.smoothing_cell_mm = smoothing_cell_mm;
+    TissueLattice lattice = makeLattice(rod, true, settings, nullptr, cell_mm);
+    lattice.update({Eigen::Isometry3d::Identity(), push});
+    Eigen::Matrix3Xd carried;
+    lattice.carry(lattice.bind(faces), carried);
+    return carried;
+  };
+  const Eigen::Matrix3Xd coarse = carryFaces(2.0, 0.0), fine = carryFaces(1.0, 2.0), fine_same_passes = carryFaces(1.0, 0.0);
+  const double scaled = (fine - coarse).colwise().norm().maxCoeff();
+  const double unscaled = (fine_same_passes - coarse).colwise().norm().maxCoeff();
+  std::printf("faces' largest difference from the 2 mm lattice's: %.3f mm with the passes scaled, %.3f mm without\n",
+              scaled, unscaled);
+  EXPECT_LT(scaled, 0.5 * unscaled);
 }
 
 // Pinched between two bones, the rod has no free side: it thickens about its middle, as a free
