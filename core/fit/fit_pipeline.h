@@ -21,7 +21,7 @@ struct MeshFit {
   std::string stop_reason;   ///< why the greedy loop ended (see GreedyFitResult)
   RefitReport final_refit;   ///< how the last weight refit ended
   int check_samples_added = 0;  ///< check points the fit made samples (see fitGreedy)
-  int near_crumb_samples_added = 0;  ///< peaks of near crumbs the fit made samples (see fitGreedy)
+  int near_crumb_samples_added = 0;  ///< peaks and floors of near crumbs the fit made samples (see fitGreedy)
   int near_crumbs_left = 0;     ///< near crumbs the surface still has (settings.crumb_margin_mm)
   int resigned_samples = 0;     ///< samples whose side the winding number decided (see SampleSet)
   double seconds = 0.0;  ///< wall time of sampling + fit (metrics excluded)

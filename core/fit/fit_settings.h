@@ -35,10 +35,11 @@ struct FitSettings {
   /// the checks only add samples, which cost accuracy; after the last round only nothing is
   /// left to carve.
   double check_start_fraction = 0.75;
-  /// Bumps of f apart from the surface that come within this of f = 0 (mm, in f's unit) are
-  /// carved with the check points (near_crumbs.h): where a motion raises f by less, no island
-  /// of the surface appears. Half the normal offset d: the psoas major's three bumps, 0.02–0.16
-  /// below f = 0 at rest, rose into islands in the hip scenes (docs/design.md, Fits).
+  /// Bumps of f apart from the surface, and dips inside it, that come within this of f = 0 (mm,
+  /// in f's unit) are carved with the check points (near_crumbs.h): where a motion moves f by
+  /// less, no island or bubble of the surface appears. Half the normal offset d: the psoas
+  /// major's three bumps, 0.02–0.16 below f = 0 at rest, rose into islands in the hip scenes
+  /// (docs/design.md, Fits).
   double crumb_margin_mm = 0.5;
   /// Shape set α (mm⁻²) the greedy step chooses from; σ = α^−½ from ~14 mm to ~1.4 mm.
   /// No wider shapes: a Gaussian much wider than the muscle's thickness cannot follow a bend,

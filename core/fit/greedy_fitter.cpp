@@ -321,8 +321,8 @@ class GreedyFitter {
     return static_cast<int>(points.cols());
   }
 
-  /// Makes the peaks of the near crumbs of the current field (find_near_crumbs_) samples, at
-  /// most candidates_per_round of them, the highest first. Returns how many.
+  /// Makes the peaks and floors of the near crumbs of the current field (find_near_crumbs_) samples, at
+  /// most candidates_per_round of them, the nearest f = 0 first. Returns how many.
   int addNearCrumbs() {
     if (!find_near_crumbs_) return 0;
     const GaussianField field = makeField();

@@ -16,6 +16,10 @@ namespace rbfmuscle {
 
 namespace {
 
+/// f below which the outside is labelled once (findNearCrumbs): any level works, this one keeps
+/// the band labelled at each level thin.
+constexpr double kFarBelow = -1.0;
+
 /// One axis of a kernel's cut-off box on the grid: its first node and exp(−α(xᵢ − ξ)²) there.
 struct AxisFactors {
   std::int64_t first = 0;
@@ -82,27 +86,49 @@ Eigen::Matrix3Xd findNearCrumbs(const GaussianField& field, const Eigen::Aligned
     return Eigen::Vector3d(box_mm.min() + cell_mm * Eigen::Vector3d(double(v % n[0]), double((v / n[0]) % n[1]), double(v / layer)));
   };
   const std::vector<double> values = calcGridValues(field, box_mm.min(), cell_mm, n);
-  std::vector<std::int64_t> peaks;
-  std::vector<char> inside(values.size());
-  const int levels = margin > 0.0 ? kNearCrumbLevels : 0;  // margin 0: islands only
-  for (int level = 0; level <= levels; ++level) {
-    const double below = level < levels ? std::ldexp(margin, -level) : 0.0;
-    for (std::size_t v = 0; v < values.size(); ++v) inside[v] = values[v] > -below;
-    const GridPieces pieces = labelGridPieces(inside, n);
-    const int largest = pieces.findLargest();
-    std::vector<std::int64_t> peak_of_piece(pieces.nodes_of_piece.size(), -1);
+  // Each stray piece's node nearest f = 0, with its distance below (a crumb) or above it (a bubble).
+  std::vector<std::pair<double, std::int64_t>> found;
+  std::vector<char> in_set(values.size());
+  const auto addStrayPieces = [&](double level, double side, const std::vector<char>& outside) {
+    // side +1: the pieces of {f > level} but the largest; side −1: those of {f < level} but what
+    // `outside` holds and what touches it (with nothing in `outside`, the largest).
+    for (std::size_t v = 0; v < values.size(); ++v) in_set[v] = side * (values[v] - level) > 0.0 && !outside[v];
+    const GridPieces pieces = labelGridPieces(in_set, n);
+    std::vector<char> stray(pieces.nodes_of_piece.size(), 1);
+    const bool by_size = std::find(outside.begin(), outside.end(), 1) == outside.end();
+    if (by_size && !stray.empty()) stray[std::size_t(pieces.findLargest())] = 0;
+    std::vector<std::int64_t> nearest(pieces.nodes_of_piece.size(), -1);
     for (std::size_t v = 0; v < values.size(); ++v) {
       const int p = pieces.piece_of_node[v];
-      if (p < 0 || p == largest) continue;
-      std::int64_t& peak = peak_of_piece[std::size_t(p)];
-      if (peak < 0 || values[v] > values[std::size_t(peak)]) peak = static_cast<std::int64_t>(v);
+      if (p < 0 || !stray[std::size_t(p)]) continue;
+      if (!by_size && visitJoinedNodes(static_cast<std::int64_t>(v), n, [&](std::int64_t u) { return outside[std::size_t(u)] != 0; })) {
+        stray[std::size_t(p)] = 0;
+        continue;
+      }
+      std::int64_t& best = nearest[std::size_t(p)];
+      if (best < 0 || side * values[v] > side * values[std::size_t(best)]) best = static_cast<std::int64_t>(v);
     }
-    for (std::int64_t peak : peak_of_piece)
-      if (peak >= 0) peaks.push_back(peak);
+    for (std::size_t p = 0; p < nearest.size(); ++p)
+      if (stray[p] && nearest[p] >= 0) found.emplace_back(-side * values[std::size_t(nearest[p])], nearest[p]);
+  };
+  // The outside far from the surface, {f < kFarBelow} where it reaches the grid's boundary, is
+  // found once: a level's bubbles are then the pieces of the rest of {f < ε} (a band about the
+  // surface, and any deep bubble) that do not touch it, and the outside's millions of nodes are
+  // not labelled at every level.
+  std::vector<char> far(values.size());
+  for (std::size_t v = 0; v < values.size(); ++v) far[v] = values[v] < kFarBelow;
+  const std::vector<char> far_outside = findReachedFromBoundary(far, n);
+  const std::vector<char> none(values.size(), 0);
+  const int levels = margin > 0.0 ? kNearCrumbLevels : 0;  // margin 0: islands and bubbles only
+  for (int level = 0; level <= levels; ++level) {
+    const double below = level < levels ? std::ldexp(margin, -level) : 0.0;
+    addStrayPieces(-below, 1.0, none);
+    addStrayPieces(below, -1.0, far_outside);
   }
-  std::sort(peaks.begin(), peaks.end());
-  peaks.erase(std::unique(peaks.begin(), peaks.end()), peaks.end());
-  std::stable_sort(peaks.begin(), peaks.end(), [&](std::int64_t a, std::int64_t b) { return values[std::size_t(a)] > values[std::size_t(b)]; });
+  std::sort(found.begin(), found.end());  // nearest f = 0 first; a node found at several levels once
+  std::vector<std::int64_t> peaks;
+  for (const auto& [distance, v] : found)
+    if (std::find(peaks.begin(), peaks.end(), v) == peaks.end()) peaks.push_back(v);
   Eigen::Matrix3Xd result(3, static_cast<Eigen::Index>(peaks.size()));
   for (std::size_t p = 0; p < peaks.size(); ++p) result.col(static_cast<Eigen::Index>(p)) = node(peaks[p]);
   return result;

@@ -50,4 +50,31 @@ GridPieces labelGridPieces(const std::vector<char>& inside, const std::array<std
   return pieces;
 }
 
+std::vector<char> findReachedFromBoundary(const std::vector<char>& set, const std::array<std::int64_t, 3>& n) {
+  std::vector<char> reached(set.size(), 0);
+  std::vector<std::int64_t> todo;
+  for (std::int64_t k = 0; k < n[2]; ++k)
+    for (std::int64_t j = 0; j < n[1]; ++j)
+      for (std::int64_t i = 0; i < n[0]; ++i) {
+        const bool boundary = i == 0 || j == 0 || k == 0 || i == n[0] - 1 || j == n[1] - 1 || k == n[2] - 1;
+        const std::int64_t v = i + n[0] * (j + n[1] * k);
+        if (boundary && set[std::size_t(v)] && !reached[std::size_t(v)]) {
+          reached[std::size_t(v)] = 1;
+          todo.push_back(v);
+        }
+      }
+  while (!todo.empty()) {
+    const std::int64_t v = todo.back();
+    todo.pop_back();
+    visitJoinedNodes(v, n, [&](std::int64_t u) {
+      if (set[std::size_t(u)] && !reached[std::size_t(u)]) {
+        reached[std::size_t(u)] = 1;
+        todo.push_back(u);
+      }
+      return false;
+    });
+  }
+  return reached;
+}
+
 }  // namespace rbfmuscle

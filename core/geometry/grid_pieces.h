@@ -22,4 +22,20 @@ struct GridPieces {
 /// @throws std::invalid_argument if inside does not hold n₀n₁n₂ flags or the grid has ≥ 2³¹ nodes.
 GridPieces labelGridPieces(const std::vector<char>& inside, const std::array<std::int64_t, 3>& n);
 
+/// Calls visit(u) for each node u joined to node v = i + n₀(j + n₁k) by an edge labelGridPieces
+/// joins along (14 at most); stops and returns true when a call returns true.
+template <class Visit>
+bool visitJoinedNodes(std::int64_t v, const std::array<std::int64_t, 3>& n, Visit&& visit) {
+  const std::int64_t i = v % n[0], j = (v / n[0]) % n[1], k = v / (n[0] * n[1]);
+  for (int mask = 1; mask < 8; ++mask)
+    for (int sign : {1, -1}) {
+      const std::int64_t a = i + sign * (mask & 1), b = j + sign * ((mask >> 1) & 1), c = k + sign * ((mask >> 2) & 1);
+      if (a >= 0 && b >= 0 && c >= 0 && a < n[0] && b < n[1] && c < n[2] && visit(a + n[0] * (b + n[1] * c))) return true;
+    }
+  return false;
+}
+
+/// The nodes of `set` that a path through `set` joins to the grid's boundary (flags per node).
+std::vector<char> findReachedFromBoundary(const std::vector<char>& set, const std::array<std::int64_t, 3>& n);
+
 }  // namespace rbfmuscle

@@ -209,7 +209,7 @@ int runFitCommand(int argc, char** argv) {
     if (!quiet) std::fprintf(stderr, "fit: global shape %.6g mm^-2 -> C_m %.6f\n", alpha, metric);
   });
   if (!quiet) std::fprintf(stderr, "\nfit: stopped by %s after %d rounds; last refit: %s after %d iterations; %d check points and %d "
-                           "peaks of near crumbs made samples; %d samples resigned\n",
+                           "near crumbs (peaks and floors) made samples; %d samples resigned\n",
                            fit.stop_reason.c_str(), fit.rounds,
                            fit.final_refit.reached_tolerance ? "tolerance" : "iteration cap",
                            fit.final_refit.iterations, fit.check_samples_added, fit.near_crumb_samples_added,
