@@ -16,8 +16,8 @@ namespace rbfmuscle {
 
 namespace {
 
-/// f below which the outside is labelled once (findNearCrumbs): any level works, this one keeps
-/// the band labelled at each level thin.
+/// f below which the outside far from the surface is found once (findNearCrumbs): any level
+/// below 0 gives the same bubbles; this one keeps the band labelled at each level thin.
 constexpr double kFarBelow = -1.0;
 
 /// One axis of a kernel's cut-off box on the grid: its first node and exp(−α(xᵢ − ξ)²) there.
@@ -126,11 +126,11 @@ Eigen::Matrix3Xd findNearCrumbs(const GaussianField& field, const Eigen::Aligned
     addStrayPieces(below, -1.0, far_outside);
   }
   std::sort(found.begin(), found.end());  // nearest f = 0 first; a node found at several levels once
-  std::vector<std::int64_t> peaks;
+  std::vector<std::int64_t> nodes;
   for (const auto& [distance, v] : found)
-    if (std::find(peaks.begin(), peaks.end(), v) == peaks.end()) peaks.push_back(v);
-  Eigen::Matrix3Xd result(3, static_cast<Eigen::Index>(peaks.size()));
-  for (std::size_t p = 0; p < peaks.size(); ++p) result.col(static_cast<Eigen::Index>(p)) = node(peaks[p]);
+    if (std::find(nodes.begin(), nodes.end(), v) == nodes.end()) nodes.push_back(v);
+  Eigen::Matrix3Xd result(3, static_cast<Eigen::Index>(nodes.size()));
+  for (std::size_t p = 0; p < nodes.size(); ++p) result.col(static_cast<Eigen::Index>(p)) = node(nodes[p]);
   return result;
 }
 
