@@ -23,28 +23,34 @@ GridPieces labelGridPieces(const std::vector<char>& inside, const std::array<std
                                 std::to_string(n[0]) + "×" + std::to_string(n[1]) + "×" + std::to_string(n[2]) + " nodes");
   if (count > std::numeric_limits<int>::max())
     throw std::invalid_argument("labelGridPieces: a grid of " + std::to_string(count) + " nodes; at most 2³¹ − 1");
-  DisjointSets sets(inside.size());
-  const auto id = [&](std::int64_t i, std::int64_t j, std::int64_t k) { return static_cast<int>(i + n[0] * (j + n[1] * k)); };
-  for (std::int64_t k = 0; k < n[2]; ++k)
-    for (std::int64_t j = 0; j < n[1]; ++j)
-      for (std::int64_t i = 0; i < n[0]; ++i) {
-        if (!inside[std::size_t(id(i, j, k))]) continue;
-        for (int mask = 1; mask < 8; ++mask) {
-          const std::int64_t a = i + (mask & 1), b = j + ((mask >> 1) & 1), c = k + ((mask >> 2) & 1);
-          if (a < n[0] && b < n[1] && c < n[2] && inside[std::size_t(id(a, b, c))]) sets.join(id(i, j, k), id(a, b, c));
-        }
-      }
+  // Only the marked nodes enter the sets (their number m, often a tenth of the grid's or less):
+  // piece_of_node first holds each marked node's index among them.
   GridPieces pieces;
   pieces.piece_of_node.assign(inside.size(), -1);
-  std::vector<int> piece_of_root(inside.size(), -1);
-  for (int v = 0; v < static_cast<int>(inside.size()); ++v) {
-    if (!inside[std::size_t(v)]) continue;
-    int& piece = piece_of_root[std::size_t(sets.find(v))];
+  std::vector<int> members;
+  for (std::int64_t v = 0; v < count; ++v)
+    if (inside[std::size_t(v)]) {
+      pieces.piece_of_node[std::size_t(v)] = static_cast<int>(members.size());
+      members.push_back(static_cast<int>(v));
+    }
+  DisjointSets sets(members.size());
+  for (int m = 0; m < static_cast<int>(members.size()); ++m) {
+    const std::int64_t v = members[std::size_t(m)], i = v % n[0], j = (v / n[0]) % n[1], k = v / (n[0] * n[1]);
+    for (int mask = 1; mask < 8; ++mask) {
+      const std::int64_t a = i + (mask & 1), b = j + ((mask >> 1) & 1), c = k + ((mask >> 2) & 1);
+      if (a >= n[0] || b >= n[1] || c >= n[2]) continue;
+      const int other = pieces.piece_of_node[std::size_t(a + n[0] * (b + n[1] * c))];
+      if (other >= 0) sets.join(m, other);
+    }
+  }
+  std::vector<int> piece_of_root(members.size(), -1);
+  for (int m = 0; m < static_cast<int>(members.size()); ++m) {
+    int& piece = piece_of_root[std::size_t(sets.find(m))];
     if (piece < 0) {
       piece = static_cast<int>(pieces.nodes_of_piece.size());
       pieces.nodes_of_piece.push_back(0);
     }
-    pieces.piece_of_node[std::size_t(v)] = piece;
+    pieces.piece_of_node[std::size_t(members[std::size_t(m)])] = piece;
     ++pieces.nodes_of_piece[std::size_t(piece)];
   }
   return pieces;
