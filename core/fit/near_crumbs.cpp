@@ -89,19 +89,19 @@ Eigen::Matrix3Xd findNearCrumbs(const GaussianField& field, const Eigen::Aligned
   // Each stray piece's node nearest f = 0, with its distance below (a crumb) or above it (a bubble).
   std::vector<std::pair<double, std::int64_t>> found;
   std::vector<char> in_set(values.size());
-  const auto addStrayPieces = [&](double level, double side, const std::vector<char>& outside) {
-    // side +1: the pieces of {f > level} but the largest; side −1: those of {f < level} but what
-    // `outside` holds and what touches it (with nothing in `outside`, the largest).
-    for (std::size_t v = 0; v < values.size(); ++v) in_set[v] = side * (values[v] - level) > 0.0 && !outside[v];
+  const auto addStrayPieces = [&](double level, double side, const std::vector<char>* outside) {
+    // side +1: the pieces of {f > level} but the largest; side −1: those of {f < level} but the
+    // `outside` nodes and what touches them (with no `outside`, the largest).
+    for (std::size_t v = 0; v < values.size(); ++v)
+      in_set[v] = side * (values[v] - level) > 0.0 && !(outside && (*outside)[v]);
     const GridPieces pieces = labelGridPieces(in_set, n);
     std::vector<char> stray(pieces.nodes_of_piece.size(), 1);
-    const bool by_size = std::find(outside.begin(), outside.end(), 1) == outside.end();
-    if (by_size && !stray.empty()) stray[std::size_t(pieces.findLargest())] = 0;
+    if (!outside && !stray.empty()) stray[std::size_t(pieces.findLargest())] = 0;
     std::vector<std::int64_t> nearest(pieces.nodes_of_piece.size(), -1);
     for (std::size_t v = 0; v < values.size(); ++v) {
       const int p = pieces.piece_of_node[v];
       if (p < 0 || !stray[std::size_t(p)]) continue;
-      if (!by_size && visitJoinedNodes(static_cast<std::int64_t>(v), n, [&](std::int64_t u) { return outside[std::size_t(u)] != 0; })) {
+      if (outside && visitJoinedNodes(static_cast<std::int64_t>(v), n, [&](std::int64_t u) { return (*outside)[std::size_t(u)] != 0; })) {
         stray[std::size_t(p)] = 0;
         continue;
       }
@@ -118,12 +118,12 @@ Eigen::Matrix3Xd findNearCrumbs(const GaussianField& field, const Eigen::Aligned
   std::vector<char> far(values.size());
   for (std::size_t v = 0; v < values.size(); ++v) far[v] = values[v] < kFarBelow;
   const std::vector<char> far_outside = findReachedFromBoundary(far, n);
-  const std::vector<char> none(values.size(), 0);
+  const bool has_far_outside = std::find(far_outside.begin(), far_outside.end(), 1) != far_outside.end();
   const int levels = margin > 0.0 ? kNearCrumbLevels : 0;  // margin 0: islands and bubbles only
   for (int level = 0; level <= levels; ++level) {
     const double below = level < levels ? std::ldexp(margin, -level) : 0.0;
-    addStrayPieces(-below, 1.0, none);
-    addStrayPieces(below, -1.0, far_outside);
+    addStrayPieces(-below, 1.0, nullptr);
+    addStrayPieces(below, -1.0, has_far_outside ? &far_outside : nullptr);
   }
   std::sort(found.begin(), found.end());  // nearest f = 0 first; a node found at several levels once
   std::vector<std::int64_t> nodes;
