@@ -13,6 +13,7 @@ about ten minutes on a 2-core machine). Needs python3-numpy (Debian) and a built
 import os
 import subprocess
 import sys
+import xml.etree.ElementTree as ET
 
 import numpy as np
 
@@ -22,7 +23,9 @@ from run_outputs import read_outputs
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
 SCENE = os.path.join(ROOT, "models", "hip", "hip_flexion.xml")
-MUSCLES = {"glmax_r": ("gluteus_maximus_r", 1000), "iliacus_r": ("iliacus_r", 2000), "psoas_r": ("psoas_major_r", 1000)}
+# Each muscle of the scene: its mesh (relative to the scene) and its centres.
+MUSCLES = {m.get("name"): (m.findtext("mesh_file"), int(m.findtext("centres")))
+           for m in ET.parse(SCENE).getroot().iter("RBFMuscle")}
 ARM_FRAME = 40  # 40° of flexion, 1° frames
 
 
@@ -34,11 +37,11 @@ def fitted_centres(out, muscle, factor):
     """--set arguments that give `muscle` `factor` times its scene's centres, fitting them first."""
     mesh, centres = MUSCLES[muscle]
     n = int(centres * factor)
-    path = os.path.join(out, "fits", f"{mesh}_{n}.rbf")
+    path = os.path.join(out, "fits", f"{muscle}_{n}.rbf")
     if not os.path.exists(path):
         os.makedirs(os.path.dirname(path), exist_ok=True)
         print(f"resolution: fitting {mesh} with {n} centres", file=sys.stderr)
-        subprocess.run([HOST, "fit", os.path.join(ROOT, "models", "hip", "meshes", mesh + ".ply"), "--centres", str(n),
+        subprocess.run([HOST, "fit", os.path.join(os.path.dirname(SCENE), mesh), "--centres", str(n),
                         "-o", path, "--quiet"], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     return ["--set", f"{muscle}.centres={n}", "--set", f"{muscle}.surface_file={path}"]
 
@@ -65,7 +68,8 @@ def measure(out, name, args):
 def main():
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
     out = os.path.abspath(args[0] if args else os.path.join(ROOT, "out", "resolution"))
-    rows = [("defaults (100 fibres of 15 segments, 2000 quadrature points, 1000 / 2000 / 1000 centres)", [])]
+    centres = " / ".join(str(c) for _, c in MUSCLES.values())
+    rows = [(f"defaults (100 fibres of 15 segments, 2000 quadrature points, {centres} centres)", [])]
     rows += [(f"fibres {n}", for_all("/fibres.count", n)) for n in (50, 200)]
     rows += [(f"segments {n}", for_all("/fibres.segments", n)) for n in (30, 60)]
     rows += [(f"quadrature points {n}", for_all("/volume.quadrature_points", n)) for n in (1000, 4000)]
