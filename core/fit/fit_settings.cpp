@@ -12,7 +12,8 @@ std::string describeSettings(const FitSettings& s) {
       << " clamp_mm=" << s.clamp_mm << " normal_offset_mm=" << s.normal_offset_mm
       << " halton_samples=" << s.halton_samples << " padding_fraction=" << s.padding_fraction
       << " check_band_samples=" << s.check_band_samples << " check_normal_layers=" << s.check_normal_layers
-      << " check_start_fraction=" << s.check_start_fraction << " crumb_margin_mm=" << s.crumb_margin_mm
+      << " check_start_fraction=" << s.check_start_fraction << " check_slope=" << s.check_slope
+      << " crumb_margin_mm=" << s.crumb_margin_mm
       << " shapes_per_mm2=";
   for (std::size_t k = 0; k < s.shapes_per_mm2.size(); ++k) out << (k ? "," : "") << s.shapes_per_mm2[k];
   out << " regularisation_gamma=" << s.regularisation_gamma << " ridge=" << s.ridge

@@ -277,10 +277,10 @@ class GreedyFitter {
     lambda_[k] = choice.weight;
   }
 
-  /// Makes the check points that the field puts on the wrong side, by at least the normal
-  /// offset d (|t| ≥ d, sign(f) ≠ sign(t)), samples: rows of the design, candidates for a
-  /// centre and terms of the refit. At most candidates_per_round of them, largest |t − f|
-  /// first. Returns how many.
+  /// Makes the check points at least the normal offset d from the surface (|t| ≥ d) where the
+  /// field does not lie on their side by more than check_slope·|t| (at 0: where it is on the
+  /// wrong side or at 0) samples: rows of the design, candidates for a centre and terms of the
+  /// refit. At most candidates_per_round of them, largest |t − f| first. Returns how many.
   int addViolatedCheckPoints() {
     const int P = samples_.getNumCheckPoints();
     if (P == 0) return 0;
@@ -290,7 +290,8 @@ class GreedyFitter {
     for (int i = 0; i < P; ++i) {
       if (check_added_[static_cast<std::size_t>(i)]) continue;
       const double t = samples_.check_target[i], f = offset_ + fitted[i];
-      if (std::abs(t) >= settings_.normal_offset_mm && (t > 0) != (f > 0)) violated.push_back(i);
+      const double margin = settings_.check_slope * std::abs(t);
+      if (std::abs(t) >= settings_.normal_offset_mm && (t > 0 ? f <= margin : f > -margin)) violated.push_back(i);
     }
     if (violated.empty()) return 0;
     // The worst first, and no more than a round examines as candidates: where the budget is

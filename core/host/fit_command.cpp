@@ -37,6 +37,7 @@ const char* const kFitUsage =
     "  --check-band N          check points within the clamp of the surface [30000]\n"
     "  --no-check-layers       no check points 2D, 4D, 8D … (< TAU) off the vertices along their normals\n"
     "  --check-start F         checks begin at this fraction of the centre budget [0.75]\n"
+    "  --check-slope S         a check point d from the surface wants f on its side by S·d, 0 to 1 [0.5]\n"
     "  --crumb-margin-mm E     carve bumps of f apart from the surface that come within E of it [0.5]\n"
     "  --shapes A,B,...        shape set α in mm^-2 [0.005 … 0.5]\n"
     "  --gamma G               regularisation γ of eq. 7.12, 1 = none [0.9]\n"
@@ -113,6 +114,7 @@ FitJob parseFitArguments(const std::vector<std::string>& args, bool require_outp
     else if (arg == "--halton") settings.halton_samples = parseCount(arg, value(), 0);
     else if (arg == "--check-band") settings.check_band_samples = parseCount(arg, value(), 0);
     else if (arg == "--check-start") settings.check_start_fraction = parseNumber(arg, value());
+    else if (arg == "--check-slope") settings.check_slope = parseNumber(arg, value());
     else if (arg == "--crumb-margin-mm") settings.crumb_margin_mm = parseNumber(arg, value());
     else if (arg == "--no-check-layers") settings.check_normal_layers = false;
     else if (arg == "--shapes") settings.shapes_per_mm2 = parseList(arg, value());
@@ -140,6 +142,8 @@ FitJob parseFitArguments(const std::vector<std::string>& args, bool require_outp
   if (!(settings.surface_cell_mm > 0)) throw UsageError("fit: --cell-mm must be > 0");
   if (!(settings.check_start_fraction >= 0 && settings.check_start_fraction <= 1))
     throw UsageError("fit: --check-start must be in [0, 1]");
+  if (!(settings.check_slope >= 0 && settings.check_slope <= 1))
+    throw UsageError("fit: --check-slope must be in [0, 1]");
   if (!(settings.crumb_margin_mm >= 0)) throw UsageError("fit: --crumb-margin-mm must be ≥ 0");
   if (!job.global_search.empty() && job.global_search.size() != 3)
     throw UsageError("fit: --global-search expects LO,HI,K");

@@ -62,7 +62,7 @@ class Model(_Model):
 _FIT_OPTIONS = {
     "centres": "--centres", "tolerance_mm": "--tolerance-mm", "clamp_mm": "--clamp-mm",
     "normal_offset_mm": "--normal-offset-mm", "halton": "--halton", "check_band": "--check-band",
-    "check_start": "--check-start", "crumb_margin_mm": "--crumb-margin-mm", "shapes": "--shapes", "gamma": "--gamma",
+    "check_start": "--check-start", "check_slope": "--check-slope", "crumb_margin_mm": "--crumb-margin-mm", "shapes": "--shapes", "gamma": "--gamma",
     "batch_fraction": "--batch-fraction", "cell_mm": "--cell-mm", "metric_points": "--metric-points",
     "global_shape": "--global-shape", "global_search": "--global-search",
 }
@@ -78,7 +78,7 @@ def _option_text(value):
 
 def fit(mesh, output=None, *, surface=None, centres=None, tolerance_mm=None, clamp_mm=None,
         normal_offset_mm=None, halton=None, check_band=None, check_layers=True, check_start=None,
-        crumb_margin_mm=None, shapes=None, gamma=None, batch_fraction=None, cell_mm=None, metric_points=None,
+        check_slope=None, crumb_margin_mm=None, shapes=None, gamma=None, batch_fraction=None, cell_mm=None, metric_points=None,
         global_shape=None, global_search=None, fix_winding=False):
     """Fits a Gaussian RBF surface to a closed mesh, as `rbfmuscle fit` does (the keywords are
     its options; None keeps the command's default; `rbfmuscle fit --help` lists them).
@@ -95,7 +95,7 @@ def fit(mesh, output=None, *, surface=None, centres=None, tolerance_mm=None, cla
         args += ["--surface", os.fspath(surface)]
     given = dict(centres=centres, tolerance_mm=tolerance_mm, clamp_mm=clamp_mm,
                  normal_offset_mm=normal_offset_mm, halton=halton, check_band=check_band,
-                 check_start=check_start, crumb_margin_mm=crumb_margin_mm, shapes=shapes, gamma=gamma, batch_fraction=batch_fraction,
+                 check_start=check_start, check_slope=check_slope, crumb_margin_mm=crumb_margin_mm, shapes=shapes, gamma=gamma, batch_fraction=batch_fraction,
                  cell_mm=cell_mm, metric_points=metric_points, global_shape=global_shape,
                  global_search=global_search)
     for key, value in given.items():

@@ -60,6 +60,7 @@ def test_a_missing_plugin_raises_the_hosts_message(tmp_path):
     (dict(centres=0), ["--centres", "0"]),
     (dict(gamma=2.0), ["--gamma", "2.0"]),
     (dict(crumb_margin_mm=-0.5), ["--crumb-margin-mm", "-0.5"]),
+    (dict(check_slope=1.5), ["--check-slope", "1.5"]),
     (dict(global_search=(0.01, 0.1)), ["--global-search", "0.01,0.1"]),
 ])
 def test_bad_fit_options_are_usage_errors_with_the_commands_message(options, arguments, tmp_path):

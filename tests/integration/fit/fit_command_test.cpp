@@ -101,6 +101,7 @@ TEST(FitCommand, BadCommandLinesExitWithUsage) {
                                   kShapes + "box.ply --bogus" + out, kShapes + "box.ply --centres 5",
                                   std::string("--centres 5") + out, kShapes + "box.ply --gamma 2" + out,
                                   kShapes + "box.ply --crumb-margin-mm -1" + out,
+                                  kShapes + "box.ply --check-slope 1.5" + out,
                                   kShapes + "box.ply --centres 5 --centres 6" + out,
                                   kShapes + "box.ply --centres 5 --output y.rbf" + out,
                                   kShapes + "box.ply --global-search 0.01,0.1,1e300" + out,

@@ -64,7 +64,7 @@ std::string modelPath(const std::string& relative) {
   return std::string(RBFMUSCLE_SOURCE_DIR) + "/models/" + relative;
 }
 
-TEST(NearCrumbs, ThePsoasFitHasNoneWithTheDefaultMarginButSomeWithoutIt) {
+TEST(NearCrumbs, ThePsoasFitHasNoneWithTheDefaultsButSomeWithoutTheMarginAndTheSlope) {
   const std::string mesh = modelPath("hip/meshes/psoas_major_r.ply");
   const FitSettings defaults;
   const MeshFit fit = fitMeshFile(mesh, defaults, false);
@@ -75,9 +75,17 @@ TEST(NearCrumbs, ThePsoasFitHasNoneWithTheDefaultMarginButSomeWithoutIt) {
   EXPECT_EQ(findNearCrumbs(fit.surface.field, box, 1.0, defaults.crumb_margin_mm).cols(), 0);
   EXPECT_EQ(fit.metrics.components, 1);
 
-  FitSettings islands_only = defaults;
-  islands_only.crumb_margin_mm = 0.0;
-  const MeshFit plain = fitMeshFile(mesh, islands_only, false);
+  // Check points held to half their depth leave no shelf beside the surface, and so no bump
+  // within the margin either; held to their side only, the fit keeps bumps the margin carves.
+  FitSettings slope_only = defaults;
+  slope_only.crumb_margin_mm = 0.0;
+  const MeshFit sloped = fitMeshFile(mesh, slope_only, false);
+  EXPECT_EQ(findNearCrumbs(sloped.surface.field, box, 1.0, defaults.crumb_margin_mm).cols(), 0);
+
+  FitSettings side_only = defaults;
+  side_only.crumb_margin_mm = 0.0;
+  side_only.check_slope = 0.0;
+  const MeshFit plain = fitMeshFile(mesh, side_only, false);
   EXPECT_GE(findNearCrumbs(plain.surface.field, box, 1.0, defaults.crumb_margin_mm).cols(), 2);
 }
 
