@@ -106,14 +106,15 @@ def host_signature(host):
     return [(os.path.basename(f), os.stat(f).st_size, os.stat(f).st_mtime_ns) for f in files if os.path.exists(f)]
 
 
-def run_host(cmd, what):
-    """Runs the host; on failure prints its stderr and stops with a message naming the command."""
+def run_host(cmd, what, may_fail=False):
+    """Runs the host; on failure prints its stderr and stops with a message naming the command
+    (with may_fail, returns the failed result instead)."""
     try:
         result = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
                                 env=host_environment(cmd[0]))
     except OSError as e:
         fail(f"cannot start {cmd[0]} ({e.strerror}); build the host or give --host")
-    if result.returncode != 0:
+    if result.returncode != 0 and not may_fail:
         sys.stderr.write(result.stderr)
         fail(f"{what} failed (exit {result.returncode}); the host's stderr is above.\n  command: {shlex.join(cmd)}")
     return result
@@ -346,11 +347,37 @@ def choose_centres(model, surfaces, config):
             figures = surfaces.figures(m, n)
             own_pieces = surfaces.own_pieces(m)
             if figures.get("components", 1) > own_pieces:
-                config["unused_fits"][m["name"]] = (n, figures)
+                config["unused_fits"][m["name"]] = (n, figures, None)
                 say(f"  {m['name']}: its fit with {n} centres comes out in {figures['components']} pieces (the scene's "
                     f"surface in {own_pieces}): this configuration keeps its {m['settings'][CENTRES]} centres")
                 n = m["settings"][CENTRES]
         config["centres"][m["name"]] = n
+
+
+# The host refuses a muscle whose inside no fibre can cross (its fit in one piece, but a part of
+# it thinner than the fibres' grid): the configuration then keeps that muscle's own surface.
+REFUSED_FIBRES = re.compile(r'<RBFMuscle name="([^"]+)">: initialize: generateFibres: (.*)')
+
+
+def run_configuration(args, model, surfaces, config, motions, out):
+    """Runs a configuration; a refit the host refuses to lay fibres through is replaced by the
+    scene's own surface, and the run repeated. Returns the command that ran."""
+    while True:
+        cmd = command(args, model, surfaces, config, motions, out)
+        result = run_host(cmd, f"configuration '{config['id']}'", may_fail=True)
+        if result.returncode == 0:
+            return cmd
+        refused = REFUSED_FIBRES.search(result.stderr)
+        muscle = next((m for m in model["muscles"] if refused and m["name"] == refused.group(1)), None)
+        if muscle is None or config["centres"][muscle["name"]] == muscle["settings"][CENTRES]:
+            sys.stderr.write(result.stderr)
+            fail(f"configuration '{config['id']}' failed (exit {result.returncode}); the host's stderr is above.\n"
+                 f"  command: {shlex.join(cmd)}")
+        n = config["centres"][muscle["name"]]
+        config["unused_fits"][muscle["name"]] = (n, surfaces.figures(muscle, n), refused.group(2).split(":")[0])
+        say(f"  {muscle['name']}: the host lays no fibres through its fit with {n} centres: this configuration "
+            f"keeps its {muscle['settings'][CENTRES]} centres")
+        config["centres"][muscle["name"]] = muscle["settings"][CENTRES]
 
 
 def main():
@@ -399,7 +426,8 @@ def main():
                 and open(out + ".run.json").read() == stamp:
             say("  reusing the earlier run (same command, same host build)")
         else:
-            run_host(cmd, f"configuration '{config['id']}'")
+            cmd = run_configuration(args, model, surfaces, config, motions, out)
+            stamp = json.dumps({"command": cmd, "host": signature})
             with open(out + ".run.json", "w") as f:
                 f.write(stamp)
         changed = [a[0] for a, b in zip(host_signature(args.host), signature) if a != b]
@@ -445,9 +473,11 @@ def main():
             notes.append(f"- {m['name']}: the scene's surface ({m['settings'][CENTRES]} centres) was fitted with other "
                          f"fit settings ({', '.join(diff)}) than the current `rbfmuscle fit` made the other levels with.")
     for c in configs:
-        for name, (n, figures) in c["unused_fits"].items():
-            notes.append(f"- {c['id']}: {name} keeps the scene's {c['centres'][name]} centres: its fit with {n} comes out "
-                         f"in {figures.get('components')} pieces, through which the run cannot lay its fibres.")
+        for name, (n, figures, refusal) in c["unused_fits"].items():
+            why = (f"the host lays no fibres through its fit with {n} ({refusal})" if refusal else
+                   f"its fit with {n} comes out in {figures.get('components')} pieces, through which the run cannot "
+                   "lay its fibres")
+            notes.append(f"- {c['id']}: {name} keeps the scene's {c['centres'][name]} centres: {why}.")
     if surfaces.fit_seconds:
         notes.append("- Fits made for this report (cached in out/): " +
                      ", ".join(f"{k} {v:.0f} s" for k, v in sorted(surfaces.fit_seconds.items())) + ".")

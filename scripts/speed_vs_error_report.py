@@ -86,7 +86,7 @@ def rows_of(results, model):
 def note(config, name):
     if name not in config["unused_fits"]:
         return ""
-    n, figures = config["unused_fits"][name]
+    n, figures = config["unused_fits"][name][:2]
     return (f"the fit with {n} centres has {figures.get('components')} pieces (Jaccard {figures.get('jaccard')}): "
             "the scene's surface kept")
 
@@ -150,7 +150,7 @@ def section(results, model, mode, notes, load):
         if r["config"]["knob"] in ("base", "centres") and r["config"]["kind"] != "repeat":
             cells = []
             for n in names:
-                centres, f = r["config"]["unused_fits"].get(n, (r["muscles"][n]["centres"], r["muscles"][n]["fit"]))
+                centres, f = r["config"]["unused_fits"].get(n, (r["muscles"][n]["centres"], r["muscles"][n]["fit"]))[:2]
                 cells.append(f"{centres}: {fmt(f.get('jaccard'), '.3f')}, {fmt(f.get('mean_distance_mm'), '.2f')} / "
                              f"{fmt(f.get('max_distance_mm'), '.2f')}, {fmt(f.get('components'), '.0f')}" +
                              (" (not run)" if n in r["config"]["unused_fits"] else ""))
