@@ -115,9 +115,14 @@ def run_host(cmd, what, may_fail=False):
     except OSError as e:
         fail(f"cannot start {cmd[0]} ({e.strerror}); build the host or give --host")
     if result.returncode != 0 and not may_fail:
-        sys.stderr.write(result.stderr)
-        fail(f"{what} failed (exit {result.returncode}); the host's stderr is above.\n  command: {shlex.join(cmd)}")
+        fail_run(result, cmd, what)
     return result
+
+
+def fail_run(result, cmd, what):
+    """Prints a failed run's stderr and stops with a message naming the command."""
+    sys.stderr.write(result.stderr)
+    fail(f"{what} failed (exit {result.returncode}); the host's stderr is above.\n  command: {shlex.join(cmd)}")
 
 
 # ---- the model, its knobs and its motion -------------------------------------------------------
@@ -370,9 +375,7 @@ def run_configuration(args, model, surfaces, config, motions, out):
         refused = REFUSED_FIBRES.search(result.stderr)
         muscle = next((m for m in model["muscles"] if refused and m["name"] == refused.group(1)), None)
         if muscle is None or config["centres"][muscle["name"]] == muscle["settings"][CENTRES]:
-            sys.stderr.write(result.stderr)
-            fail(f"configuration '{config['id']}' failed (exit {result.returncode}); the host's stderr is above.\n"
-                 f"  command: {shlex.join(cmd)}")
+            fail_run(result, cmd, f"configuration '{config['id']}'")
         n = config["centres"][muscle["name"]]
         config["unused_fits"][muscle["name"]] = (n, surfaces.figures(muscle, n), refused.group(2).split(":")[0])
         say(f"  {muscle['name']}: the host lays no fibres through its fit with {n} centres: this configuration "

@@ -35,7 +35,7 @@ struct FitSettings {
   /// the checks only add samples, which cost accuracy; after the last round only nothing is
   /// left to carve.
   double check_start_fraction = 0.75;
-  /// A check point |t| from the surface is violated unless f lies on its side by at least
+  /// A check point |t| from the surface is violated unless f lies on its side by more than
   /// check_slope·|t| (f's unit), ∈ [0, 1]; 0 asks for the right side only. Where f is flat
   /// just outside the surface (a shelf), a motion that moves f by a little makes islands of
   /// the shelf: with 0 the psoas major fell into pieces (1 mm grid) at 25 of the main job's
