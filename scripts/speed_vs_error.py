@@ -344,7 +344,7 @@ def scaled(muscle, scale):
 def choose_centres(model, surfaces, config):
     """Each muscle's centre count in a configuration: the scaled count, fitted first; but a fit
     in more pieces than the scene's surface keeps the scene's count (the run could not lay fibres
-    through a muscle in pieces), its figures kept for the fit table."""
+    through a muscle in pieces); config["unused_fits"] keeps its count, figures and why, for the report."""
     config["centres"], config["unused_fits"] = {}, {}
     for m in model["muscles"]:
         n = scaled(m, config["scale"])
@@ -352,7 +352,8 @@ def choose_centres(model, surfaces, config):
             figures = surfaces.figures(m, n)
             own_pieces = surfaces.own_pieces(m)
             if figures.get("components", 1) > own_pieces:
-                config["unused_fits"][m["name"]] = (n, figures, None)
+                config["unused_fits"][m["name"]] = (n, figures, f"its fit with {n} comes out in {figures['components']} "
+                                                    "pieces, through which the run cannot lay its fibres")
                 say(f"  {m['name']}: its fit with {n} centres comes out in {figures['components']} pieces (the scene's "
                     f"surface in {own_pieces}): this configuration keeps its {m['settings'][CENTRES]} centres")
                 n = m["settings"][CENTRES]
@@ -377,7 +378,8 @@ def run_configuration(args, model, surfaces, config, motions, out):
         if muscle is None or config["centres"][muscle["name"]] == muscle["settings"][CENTRES]:
             fail_run(result, cmd, f"configuration '{config['id']}'")
         n = config["centres"][muscle["name"]]
-        config["unused_fits"][muscle["name"]] = (n, surfaces.figures(muscle, n), refused.group(2).split(":")[0])
+        config["unused_fits"][muscle["name"]] = (n, surfaces.figures(muscle, n), f"the host lays no fibres through its "
+                                                 f"fit with {n} ({refused.group(2).split(':')[0]})")
         say(f"  {muscle['name']}: the host lays no fibres through its fit with {n} centres: this configuration "
             f"keeps its {muscle['settings'][CENTRES]} centres")
         config["centres"][muscle["name"]] = muscle["settings"][CENTRES]
@@ -476,10 +478,7 @@ def main():
             notes.append(f"- {m['name']}: the scene's surface ({m['settings'][CENTRES]} centres) was fitted with other "
                          f"fit settings ({', '.join(diff)}) than the current `rbfmuscle fit` made the other levels with.")
     for c in configs:
-        for name, (n, figures, refusal) in c["unused_fits"].items():
-            why = (f"the host lays no fibres through its fit with {n} ({refusal})" if refusal else
-                   f"its fit with {n} comes out in {figures.get('components')} pieces, through which the run cannot "
-                   "lay its fibres")
+        for name, (_, _, why) in c["unused_fits"].items():
             notes.append(f"- {c['id']}: {name} keeps the scene's {c['centres'][name]} centres: {why}.")
     if surfaces.fit_seconds:
         notes.append("- Fits made for this report (cached in out/): " +
