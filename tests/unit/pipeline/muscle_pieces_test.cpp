@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// countMusclePieces against shapes whose pieces are known, and against the pieces of the
-// surface extractIsoSurface draws on the same grid.
+// countMusclePieces against shapes whose pieces are known, where the surface extractIsoSurface
+// draws on the same grid splits them.
 #include "pipeline/muscle_pieces.h"
 
 #include "../dynamics/dynamics_test_shapes.h"
@@ -67,22 +67,38 @@ TEST(MusclePieces, ABoneAcrossTheRodCutsItInTwo) {
   EXPECT_GT(cut.stray_volume_mm3, 0.3 * cut.largest_volume_mm3);  // two halves of a rod
 }
 
-TEST(MusclePieces, CountsThePiecesOfTheExtractedSurfaceOnTheSameGrid) {
-  // Two kernels of makeSpheres join where they are under 26.0 mm apart (f = 0 midway); these
-  // pairs are 25.2–26.6 mm apart, so whether they touch is decided at the grid's nodes, and
-  // both counts must decide it the same way.
+/// The box countMusclePieces samples: the positive kernels' cut-off boxes.
+Eigen::AlignedBox3d findSampledBox(const MuscleState& state) {
+  Eigen::AlignedBox3d box;
+  for (int k = 0; k < state.field.getNumKernels(); ++k) {
+    box.extend(state.field.getCentres().col(k) - state.field.calcHalfExtents(k));
+    box.extend(state.field.getCentres().col(k) + state.field.calcHalfExtents(k));
+  }
+  return box;
+}
+
+TEST(MusclePieces, CountsTheSpheresThatTouchAsOnePieceWhateverTheCell) {
+  // Two kernels of makeSpheres join where they are under 26.0 mm apart (f = 0 midway). Of these
+  // five, 0–1 (25.6 mm), 1–4 (25.9 mm, a neck about 2.3 mm across) and 3–4 (25.2 mm) join, and
+  // 2 is 26.2 mm from 1: two pieces.
   Eigen::Matrix3Xd centres(3, 5);
   centres << 0, 25.6, 51.8, 0, 25.2, 0, 0.4, 0, 26.1, 26.3, 0, 0.2, 0.5, 0, 1.1;
   const MuscleState state(makeSpheres(centres), 1e-3);
-  for (double cell_mm : {0.7, 1.0, 1.5, 2.0}) {
-    // The box countMusclePieces samples: the positive kernels' cut-off boxes.
-    Eigen::AlignedBox3d box;
-    for (int k = 0; k < state.field.getNumKernels(); ++k) {
-      box.extend(centres.col(k) - state.field.calcHalfExtents(k));
-      box.extend(centres.col(k) + state.field.calcHalfExtents(k));
-    }
-    EXPECT_EQ(countMusclePieces(state, cell_mm).pieces, countSurfacePieces(state, box, cell_mm)) << cell_mm << " mm";
+  for (double cell_mm : {0.7, 1.0, 1.5, 2.0, 3.0}) EXPECT_EQ(countMusclePieces(state, cell_mm).pieces, 2) << cell_mm << " mm";
+}
+
+TEST(MusclePieces, JoinsANeckThinnerThanTheCellWhereTheSurfaceOnTheSameGridSplits) {
+  // 25.98 mm apart: a neck about 1.5 mm across, which a grid of cells larger than it may step
+  // over, depending on where its nodes fall.
+  Eigen::Matrix3Xd centres(3, 2);
+  centres << 0, 25.98, 0, 0.3, 0, 0.7;
+  const MuscleState state(makeSpheres(centres), 1e-3);
+  int cells_where_the_surface_splits = 0;
+  for (double cell_mm : {1.5, 2.0, 2.5, 3.0, 3.5}) {
+    EXPECT_EQ(countMusclePieces(state, cell_mm).pieces, 1) << cell_mm << " mm";
+    cells_where_the_surface_splits += countSurfacePieces(state, findSampledBox(state), cell_mm) > 1;
   }
+  EXPECT_GT(cells_where_the_surface_splits, 0);
 }
 
 TEST(MusclePieces, RefusesABadCellAndAnUnboundedField) {
