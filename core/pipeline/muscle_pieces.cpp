@@ -14,11 +14,14 @@
 namespace rbfmuscle {
 namespace {
 
-/// The finer grid around a stray piece: 4× finer (0.5 mm for the scenes' 2 mm), which joins
-/// the psoas's tendon beside the lesser trochanter as a 1 mm grid over the whole muscle does.
+/// The finer grid around a stray piece: 4× finer, 0.5 mm for the scenes' 2 mm cells, where a
+/// 2 mm grid splits the psoas's tendon beside the lesser trochanter and a 1 mm grid does not.
 constexpr int kRefinement = 4;
 /// Cells by which the finer grid reaches past a stray piece's nodes.
 constexpr std::int64_t kMarginCells = 2;
+/// Most nodes of one finer grid: 10⁸ (0.5 GB of flags and labels). At 2 mm cells that is a
+/// stray piece's box of about 230 mm a side.
+constexpr std::int64_t kMaxFineNodes = 100'000'000;
 
 /// Where f can be > 0: the union of the cut-off boxes of the kernels with λ > 0 (elsewhere
 /// f ≤ b plus the negative kernels, and b ≤ 0).
@@ -99,6 +102,7 @@ void joinThroughFinerGrid(const MuscleState& state, const Eigen::Vector3d& origi
     hi[a] = std::min<std::int64_t>(n[a] - 1, hi[a] + kMarginCells);
     fine_n[a] = (hi[a] - lo[a]) * kRefinement + 1;
   }
+  if (fine_n[0] * fine_n[1] * fine_n[2] > kMaxFineNodes) return;
   const Eigen::Vector3d fine_origin = origin + cell_mm * Eigen::Vector3d(double(lo[0]), double(lo[1]), double(lo[2]));
   const GridPieces fine = labelGridPieces(markInside(state, fine_origin, cell_mm / kRefinement, fine_n), fine_n);
   // The grid's nodes are nodes of the finer grid: pieces whose nodes share a finer piece are one.

@@ -18,11 +18,11 @@ struct MusclePieces {
 /// nodes inside are joined when an edge of that grid's tetrahedra joins them, as the extracted
 /// surface joins them (a cavity is not a piece). A neck thinner than a cell falls between the
 /// nodes and splits a piece in two, so around every piece but the largest (its nodes' box grown
-/// by two cells) the grid is refined four times, and pieces the finer grid joins count as one.
-/// A volume is its nodes times cell_mm³. A piece thinner than a cell may still be missed.
-/// Costs a field evaluation at every node (0.1–0.2 s for 2 mm cells over a hip muscle) and
-/// 64 at every node of a stray piece's box: for tests and tools, never in a frame that is not
-/// asked to check.
+/// by two cells) the grid is refined four times, and pieces the finer grid joins count as one;
+/// a piece whose finer grid would hold more than 10⁸ nodes is not refined. A volume
+/// is its nodes times cell_mm³. A piece thinner than a cell may still be missed. Costs a field
+/// evaluation at every node (0.1–0.2 s for 2 mm cells over a hip muscle) and 64 at every node
+/// of a stray piece's box: for tests and tools, never in a frame that is not asked to check.
 /// @throws std::invalid_argument if cell_mm ≤ 0, the field's offset is > 0 (f > 0 far from
 ///   every kernel: no bounded muscle) or the grid would exceed 10⁹ nodes.
 MusclePieces countMusclePieces(const MuscleState& state, double cell_mm);
