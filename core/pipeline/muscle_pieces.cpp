@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "pipeline/muscle_pieces.h"
 
+#include "geometry/disjoint_sets.h"
 #include "geometry/grid_pieces.h"
 #include "geometry/iso_surface.h"
 
@@ -57,22 +58,6 @@ std::vector<char> markInside(const MuscleState& state, const Eigen::Vector3d& or
   return inside;
 }
 
-/// Union–find over the grid's pieces.
-struct JoinedPieces {
-  explicit JoinedPieces(std::size_t count) : parent(count) {
-    for (std::size_t p = 0; p < count; ++p) parent[p] = static_cast<int>(p);
-  }
-  int find(int p) const {
-    while (parent[std::size_t(p)] != p) p = parent[std::size_t(p)];
-    return p;
-  }
-  void join(int a, int b) {
-    a = find(a), b = find(b);
-    if (a != b) parent[std::size_t(std::max(a, b))] = std::min(a, b);
-  }
-  std::vector<int> parent;
-};
-
 /// Index box (lowest, highest node) of each piece's nodes.
 struct NodeBox {
   std::array<std::int64_t, 3> lo{}, hi{};
@@ -94,7 +79,7 @@ std::vector<NodeBox> findPieceBoxes(const GridPieces& labelled, const std::array
 /// grown by kMarginCells (the neck between two pieces lies next to both).
 void joinThroughFinerGrid(const MuscleState& state, const Eigen::Vector3d& origin, double cell_mm,
                           const std::array<std::int64_t, 3>& n, const GridPieces& labelled, const NodeBox& around,
-                          JoinedPieces& joined) {
+                          DisjointSets& joined) {
   std::array<std::int64_t, 3> lo = around.lo, hi = around.hi;
   std::array<std::int64_t, 3> fine_n{};
   for (int a = 0; a < 3; ++a) {
@@ -134,7 +119,7 @@ MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
   const std::array<std::int64_t, 3> n = countIsoSurfaceNodes(box, cell_mm);
   const GridPieces labelled = labelGridPieces(markInside(state, box.min(), cell_mm, n), n);
   const int largest = labelled.findLargest();
-  JoinedPieces joined(labelled.nodes_of_piece.size());
+  DisjointSets joined(labelled.nodes_of_piece.size());
   const std::vector<NodeBox> piece_boxes = findPieceBoxes(labelled, n);
   for (int p = 0; p < static_cast<int>(labelled.nodes_of_piece.size()); ++p)
     if (p != largest) joinThroughFinerGrid(state, box.min(), cell_mm, n, labelled, piece_boxes[std::size_t(p)], joined);
@@ -144,7 +129,8 @@ MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
     nodes_of_joined[std::size_t(joined.find(p))] += labelled.nodes_of_piece[std::size_t(p)];
     total += labelled.nodes_of_piece[std::size_t(p)];
   }
-  const std::int64_t largest_nodes = *std::max_element(nodes_of_joined.begin(), nodes_of_joined.end());
+  const std::int64_t largest_nodes =
+      nodes_of_joined.empty() ? 0 : *std::max_element(nodes_of_joined.begin(), nodes_of_joined.end());
   result.pieces = static_cast<int>(std::count_if(nodes_of_joined.begin(), nodes_of_joined.end(), [](std::int64_t c) { return c > 0; }));
   const double node_mm3 = cell_mm * cell_mm * cell_mm;
   result.largest_volume_mm3 = double(largest_nodes) * node_mm3;

@@ -77,6 +77,18 @@ Eigen::AlignedBox3d findSampledBox(const MuscleState& state) {
   return box;
 }
 
+TEST(MusclePieces, AMuscleWhollyInABoneIsNoPiece) {
+  MuscleState state(test::makeSphereField(), 1e-3);
+  const auto block = std::make_shared<BoneDistanceGrid>(test::makeBox(Eigen::Vector3d::Constant(-30), Eigen::Vector3d::Constant(30)));
+  BoneClearance bones({ClearanceBone{"block", block}});
+  bones.setPoses({Eigen::Isometry3d::Identity()}, Eigen::AlignedBox3d(Eigen::Vector3d::Constant(-60), Eigen::Vector3d::Constant(60)));
+  state.bones = &bones;
+  const MusclePieces none = countMusclePieces(state, 1.0);
+  EXPECT_EQ(none.pieces, 0);
+  EXPECT_EQ(none.largest_volume_mm3, 0.0);
+  EXPECT_EQ(none.stray_volume_mm3, 0.0);
+}
+
 TEST(MusclePieces, CountsTheSpheresThatTouchAsOnePieceWhateverTheCell) {
   // Two kernels of makeSpheres join where they are under 26.0 mm apart (f = 0 midway). Of these
   // five, 0–1 (25.6 mm), 1–4 (25.9 mm, a neck about 2.3 mm across) and 3–4 (25.2 mm) join, and
