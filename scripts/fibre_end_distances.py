@@ -28,8 +28,12 @@ def read_area(model_dir, spec):
     if ":" not in spec or not spec.split(":")[0].strip().endswith(".json"):
         return None
     file, names = spec.split(":", 1)
-    with open(os.path.join(model_dir, file.strip())) as f:
+    path = os.path.join(model_dir, file.strip())
+    with open(path) as f:
         clouds = json.load(f)["clouds"]
+    missing = [name.strip() for name in names.split(",") if name.strip() not in clouds]
+    if missing:
+        sys.exit(f"fibre_end_distances.py: error: {path} has no cloud named {', '.join(missing)}")
     return np.array([p["mm"] for name in names.split(",") for p in clouds[name.strip()]], dtype=float)
 
 
