@@ -282,6 +282,7 @@ void RBFMuscle::update(const FrameState& state) {
     const MusclePieces pieces = countMusclePieces(pipeline_->getState(), check_pieces_cell_mm.get());
     pieces_ = pieces.pieces;
     stray_volume_mm3_ = pieces.stray_volume_mm3;
+    stray_centre_G_mm_ = pieces.stray_centre_mm + frame_offset_mm_;
   }
 }
 

@@ -74,7 +74,7 @@ class RBFMuscle final : public Component {
                                     "Each coordinate re-runs the frame twice (central difference)"};
   Property<double> check_pieces_cell_mm{this, "check_pieces_cell_mm", 0.0,
                                         "a check for tests and tools: count the pieces of the muscle outside the bones "
-                                        "every frame on a grid of this cell (outputs pieces and stray_volume_mm3, and the "
+                                        "every frame on a grid of this cell (outputs pieces, stray_volume_mm3 and stray_centre_mm, and the "
                                         "invariant pieces = 1), the grid refined 4× around stray pieces; a field "
                                         "evaluation over the muscle's whole box, about 0.1–0.2 s a frame for each hip "
                                         "muscle at 2 mm; 0 = off",
@@ -121,6 +121,10 @@ class RBFMuscle final : public Component {
   Output stray_volume_output_{this, "stray_volume_mm3", "mm^3",
                               "volume of every piece but the largest (check_pieces_cell_mm; NaN when off)",
                               [this] { return stray_volume_mm3_; }};
+  VectorOutput stray_centre_output_{this, "stray_centre_mm", "mm",
+                                    "x, y, z (ground) of the mean of the second largest piece: the part that came "
+                                    "off (check_pieces_cell_mm; NaN when off or in one piece)",
+                                    [this]() -> const Eigen::VectorXd& { return stray_centre_G_mm_; }};
 
   std::unique_ptr<MusclePipeline> pipeline_;
   std::unique_ptr<MomentArms> moment_arms_;                   ///< null without moment_arms
@@ -139,6 +143,7 @@ class RBFMuscle final : public Component {
   double line_of_action_length_mm_ = 0.0;
   double pieces_ = std::numeric_limits<double>::quiet_NaN();
   double stray_volume_mm3_ = std::numeric_limits<double>::quiet_NaN();
+  Eigen::VectorXd stray_centre_G_mm_ = Eigen::VectorXd::Constant(3, std::numeric_limits<double>::quiet_NaN());
   Eigen::VectorXd no_fibres_;
 };
 

@@ -105,6 +105,26 @@ void joinThroughFinerGrid(const MuscleState& state, const Eigen::Vector3d& origi
       }
 }
 
+/// Mean of the nodes of the second largest joined piece (the first of equals).
+Eigen::Vector3d findStrayCentre(const GridPieces& labelled, DisjointSets& joined,
+                                const std::vector<std::int64_t>& nodes_of_joined, const Eigen::Vector3d& origin,
+                                double cell_mm, const std::array<std::int64_t, 3>& n) {
+  std::vector<int> order(nodes_of_joined.size());
+  for (size_t p = 0; p < order.size(); ++p) order[p] = static_cast<int>(p);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](int a, int b) { return nodes_of_joined[size_t(a)] > nodes_of_joined[size_t(b)]; });
+  const int stray = order[1];
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  std::int64_t count = 0;
+  for (std::int64_t v = 0; v < n[0] * n[1] * n[2]; ++v) {
+    const int piece = labelled.piece_of_node[std::size_t(v)];
+    if (piece < 0 || joined.find(piece) != stray) continue;
+    sum += Eigen::Vector3d(double(v % n[0]), double((v / n[0]) % n[1]), double(v / (n[0] * n[1])));
+    ++count;
+  }
+  return origin + cell_mm * sum / double(count);
+}
+
 }  // namespace
 
 MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
@@ -135,6 +155,7 @@ MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
   const double node_mm3 = cell_mm * cell_mm * cell_mm;
   result.largest_volume_mm3 = double(largest_nodes) * node_mm3;
   result.stray_volume_mm3 = double(total - largest_nodes) * node_mm3;
+  if (result.pieces > 1) result.stray_centre_mm = findStrayCentre(labelled, joined, nodes_of_joined, box.min(), cell_mm, n);
   return result;
 }
 

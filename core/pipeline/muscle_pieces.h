@@ -4,6 +4,10 @@
 /// A check, not a stage: how many pieces the muscle is in, counted on a grid.
 #include "pipeline/muscle_state.h"
 
+#include <Eigen/Core>
+
+#include <limits>
+
 namespace rbfmuscle {
 
 /// The pieces of the muscle outside the bones, {min(f̃, s) > 0} (muscle_state.h).
@@ -11,6 +15,9 @@ struct MusclePieces {
   int pieces = 0;                  ///< connected pieces (0: the muscle vanished)
   double largest_volume_mm3 = 0;   ///< volume of the largest piece
   double stray_volume_mm3 = 0;     ///< volume of all the others
+  /// Mean of the grid nodes of the largest piece but one (M, mm): the part that came off.
+  /// NaN when the muscle is in one piece or none.
+  Eigen::Vector3d stray_centre_mm = Eigen::Vector3d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 /// Counts the pieces of the state's muscle on the grid of nodes box.min() + cell_mm·(i, j, k)

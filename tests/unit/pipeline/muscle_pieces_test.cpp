@@ -43,6 +43,7 @@ TEST(MusclePieces, OneSphereIsOnePieceOfItsVolume) {
   EXPECT_EQ(p.pieces, 1);
   EXPECT_NEAR(p.largest_volume_mm3, 4.0 / 3.0 * M_PI * 1000.0, 0.03 * 4189.0);
   EXPECT_EQ(p.stray_volume_mm3, 0.0);
+  EXPECT_TRUE(p.stray_centre_mm.array().isNaN().all());  // nowhere apart
 }
 
 TEST(MusclePieces, TwoSpheresApartAreTwoPiecesAndOverlappingOnesOne) {
@@ -65,6 +66,8 @@ TEST(MusclePieces, ABoneAcrossTheRodCutsItInTwo) {
   const MusclePieces cut = countMusclePieces(state, 1.0);
   EXPECT_EQ(cut.pieces, 2);
   EXPECT_GT(cut.stray_volume_mm3, 0.3 * cut.largest_volume_mm3);  // two halves of a rod
+  EXPECT_GT(std::abs(cut.stray_centre_mm.x()), 10.0) << "the stray half lies beside the slab: " << cut.stray_centre_mm.transpose();
+  EXPECT_LT(cut.stray_centre_mm.tail<2>().norm(), 3.0) << "on the rod's axis";
 }
 
 /// The box countMusclePieces samples: the positive kernels' cut-off boxes.
@@ -96,7 +99,12 @@ TEST(MusclePieces, CountsTheSpheresThatTouchAsOnePieceWhateverTheCell) {
   Eigen::Matrix3Xd centres(3, 5);
   centres << 0, 25.6, 51.8, 0, 25.2, 0, 0.4, 0, 26.1, 26.3, 0, 0.2, 0.5, 0, 1.1;
   const MuscleState state(makeSpheres(centres), 1e-3);
-  for (double cell_mm : {0.7, 1.0, 1.5, 2.0, 3.0}) EXPECT_EQ(countMusclePieces(state, cell_mm).pieces, 2) << cell_mm << " mm";
+  for (double cell_mm : {0.7, 1.0, 1.5, 2.0, 3.0}) {
+    const MusclePieces p = countMusclePieces(state, cell_mm);
+    EXPECT_EQ(p.pieces, 2) << cell_mm << " mm";
+    // Where the muscle comes apart: the lone sphere 2.
+    EXPECT_LT((p.stray_centre_mm - centres.col(2)).norm(), 0.5) << cell_mm << " mm: " << p.stray_centre_mm.transpose();
+  }
 }
 
 TEST(MusclePieces, JoinsANeckThinnerThanTheCellWhereTheSurfaceOnTheSameGridSplits) {
