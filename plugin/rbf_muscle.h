@@ -74,8 +74,9 @@ class RBFMuscle final : public Component {
                                     "Each coordinate re-runs the frame twice (central difference)"};
   Property<double> check_pieces_cell_mm{this, "check_pieces_cell_mm", 0.0,
                                         "a check for tests and tools: count the pieces of the muscle outside the bones "
-                                        "every frame on a grid of this cell (outputs pieces, stray_volume_mm3 and stray_centre_mm, and the "
-                                        "invariant pieces = 1), the grid refined 4× around stray pieces; a field "
+                                        "every frame on a grid of this cell (outputs pieces, stray_volume_mm3 and "
+                                        "stray_centre_mm, and the invariant pieces = 1), the grid refined 4× around "
+                                        "stray pieces; a field "
                                         "evaluation over the muscle's whole box, about 0.1–0.2 s a frame for each hip "
                                         "muscle at 2 mm; 0 = off",
                                         PropertyRange{0.0, 100.0}};

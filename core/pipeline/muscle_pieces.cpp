@@ -155,7 +155,8 @@ MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
   const double node_mm3 = cell_mm * cell_mm * cell_mm;
   result.largest_volume_mm3 = double(largest_nodes) * node_mm3;
   result.stray_volume_mm3 = double(total - largest_nodes) * node_mm3;
-  if (result.pieces > 1) result.stray_centre_mm = findStrayCentre(labelled, joined, nodes_of_joined, box.min(), cell_mm, n);
+  if (result.pieces > 1)
+    result.stray_centre_mm = findStrayCentre(labelled, joined, nodes_of_joined, box.min(), cell_mm, n);
   return result;
 }
 

@@ -143,10 +143,13 @@ double checkOutputs(const StorageTable& table, size_t row, const std::string& mu
     return static_cast<size_t>(std::max(c, 0));
   };
   const std::vector<double>& r = table.rows[row];
-  for (size_t c = 0; c < r.size(); ++c)  // stray_centre_mm is NaN while the muscle is in one piece
-    if (table.column_labels[c].rfind(muscle + ".", 0) == 0 && table.column_labels[c].rfind(muscle + ".stray_centre_mm", 0) != 0) {
-      EXPECT_TRUE(std::isfinite(r[c])) << table.column_labels[c] << " frame " << row;
+  for (size_t c = 0; c < r.size(); ++c) {
+    const std::string& label = table.column_labels[c];
+    // stray_centre_mm is NaN while the muscle is in one piece.
+    if (label.rfind(muscle + ".", 0) == 0 && label.rfind(muscle + ".stray_centre_mm", 0) != 0) {
+      EXPECT_TRUE(std::isfinite(r[c])) << label << " frame " << row;
     }
+  }
   const size_t outside = column("fibre_points_outside"), fibre = column("fibre_length_ratio");
   EXPECT_NEAR(r[column("volume_ratio")], 1.0, 2e-3) << muscle << " frame " << row;
   EXPECT_LE(r[column("fibre_end_offset_max_mm")], 0.5) << muscle << ": a fibre end left its place on its bone at frame "
@@ -261,9 +264,9 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
       }
       if (holds(checks.one_piece, muscle)) {
         const std::vector<double>& r = table.rows[row];
-        EXPECT_EQ(volume_pieces, 1.0) << muscle << "'s volume at frame " << row << ": the part that came off lies about ("
-                                      << r[stray_x_column] << ", " << r[stray_x_column + 1] << ", " << r[stray_x_column + 2]
-                                      << ") mm in ground";
+        EXPECT_EQ(volume_pieces, 1.0) << muscle << "'s volume at frame " << row
+                                      << ": the part that came off lies about (" << r[stray_x_column] << ", "
+                                      << r[stray_x_column + 1] << ", " << r[stray_x_column + 2] << ") mm in ground";
       }
     }
     const int ratio = table.findColumn(muscle + ".fibre_length_ratio");

@@ -88,7 +88,8 @@ TEST(RBFMusclePlugin, GluteusFollowsFlexionWithVolumeKept) {
     for (size_t c = 0; c < row.size(); ++c) {
       // The surface is tracked with --frames-mesh only, the pieces counted with check_pieces_cell_mm only.
       const std::string& label = table.column_labels[c];
-      if (label.find("surface") == std::string::npos && label != "glmax_r.pieces" && label.rfind("glmax_r.stray_", 0) != 0) {
+      if (label.find("surface") == std::string::npos && label != "glmax_r.pieces" &&
+          label.rfind("glmax_r.stray_", 0) != 0) {
         EXPECT_TRUE(std::isfinite(row[c])) << label << " row " << i;
       }
     }

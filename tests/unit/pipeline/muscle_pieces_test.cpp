@@ -66,7 +66,8 @@ TEST(MusclePieces, ABoneAcrossTheRodCutsItInTwo) {
   const MusclePieces cut = countMusclePieces(state, 1.0);
   EXPECT_EQ(cut.pieces, 2);
   EXPECT_GT(cut.stray_volume_mm3, 0.3 * cut.largest_volume_mm3);  // two halves of a rod
-  EXPECT_GT(std::abs(cut.stray_centre_mm.x()), 10.0) << "the stray half lies beside the slab: " << cut.stray_centre_mm.transpose();
+  EXPECT_GT(std::abs(cut.stray_centre_mm.x()), 10.0)
+      << "the stray half lies beside the slab: " << cut.stray_centre_mm.transpose();
   EXPECT_LT(cut.stray_centre_mm.tail<2>().norm(), 3.0) << "on the rod's axis";
 }
 
