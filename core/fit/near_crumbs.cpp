@@ -81,9 +81,9 @@ Eigen::Matrix3Xd findNearCrumbs(const GaussianField& field, const Eigen::Aligned
   if (!(cell_mm > 0.0)) throw std::invalid_argument("findNearCrumbs: cell " + std::to_string(cell_mm) + " mm; expected > 0");
   checkIsoSurfaceGrid(box_mm, cell_mm);
   const std::array<std::int64_t, 3> n = countIsoSurfaceNodes(box_mm, cell_mm);
-  const std::int64_t layer = n[0] * n[1];
   const auto node = [&](std::int64_t v) {
-    return Eigen::Vector3d(box_mm.min() + cell_mm * Eigen::Vector3d(double(v % n[0]), double((v / n[0]) % n[1]), double(v / layer)));
+    const std::array<std::int64_t, 3> ijk = splitNodeIndex(v, n);
+    return Eigen::Vector3d(box_mm.min() + cell_mm * Eigen::Vector3d(double(ijk[0]), double(ijk[1]), double(ijk[2])));
   };
   const std::vector<double> values = calcGridValues(field, box_mm.min(), cell_mm, n);
   // Each stray piece's node nearest f = 0, with its distance below (a crumb) or above it (a bubble).

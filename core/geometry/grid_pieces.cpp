@@ -35,7 +35,7 @@ GridPieces labelGridPieces(const std::vector<char>& inside, const std::array<std
     }
   DisjointSets sets(members.size());
   for (int m = 0; m < static_cast<int>(members.size()); ++m) {
-    const std::int64_t v = members[std::size_t(m)], i = v % n[0], j = (v / n[0]) % n[1], k = v / (n[0] * n[1]);
+    const auto [i, j, k] = splitNodeIndex(members[std::size_t(m)], n);
     for (int mask = 1; mask < 8; ++mask) {
       const std::int64_t a = i + (mask & 1), b = j + ((mask >> 1) & 1), c = k + ((mask >> 2) & 1);
       if (a >= n[0] || b >= n[1] || c >= n[2]) continue;

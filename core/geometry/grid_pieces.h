@@ -22,11 +22,16 @@ struct GridPieces {
 /// @throws std::invalid_argument if inside does not hold n₀n₁n₂ flags or the grid has ≥ 2³¹ nodes.
 GridPieces labelGridPieces(const std::vector<char>& inside, const std::array<std::int64_t, 3>& n);
 
+/// The lattice coordinates (i, j, k) of node v = i + n₀(j + n₁k) of an n₀×n₁×n₂ grid.
+inline std::array<std::int64_t, 3> splitNodeIndex(std::int64_t v, const std::array<std::int64_t, 3>& n) {
+  return {v % n[0], (v / n[0]) % n[1], v / (n[0] * n[1])};
+}
+
 /// Calls visit(u) for each node u joined to node v = i + n₀(j + n₁k) by an edge labelGridPieces
 /// joins along (14 at most); stops and returns true when a call returns true.
 template <class Visit>
 bool visitJoinedNodes(std::int64_t v, const std::array<std::int64_t, 3>& n, Visit&& visit) {
-  const std::int64_t i = v % n[0], j = (v / n[0]) % n[1], k = v / (n[0] * n[1]);
+  const auto [i, j, k] = splitNodeIndex(v, n);
   for (int mask = 1; mask < 8; ++mask)
     for (int sign : {1, -1}) {
       const std::int64_t a = i + sign * (mask & 1), b = j + sign * ((mask >> 1) & 1), c = k + sign * ((mask >> 2) & 1);

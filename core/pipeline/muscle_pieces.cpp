@@ -58,9 +58,10 @@ std::vector<char> markInside(const MuscleState& state, const Eigen::Vector3d& or
   return inside;
 }
 
-/// Index box (lowest, highest node) of each piece's nodes.
+/// Index box (lowest, highest node) of a piece's nodes, and the sum of their indices.
 struct NodeBox {
   std::array<std::int64_t, 3> lo{}, hi{};
+  Eigen::Vector3d index_sum = Eigen::Vector3d::Zero();
 };
 
 std::vector<NodeBox> findPieceBoxes(const GridPieces& labelled, const std::array<std::int64_t, 3>& n) {
@@ -68,9 +69,12 @@ std::vector<NodeBox> findPieceBoxes(const GridPieces& labelled, const std::array
   for (std::int64_t v = 0; v < n[0] * n[1] * n[2]; ++v) {
     const int piece = labelled.piece_of_node[std::size_t(v)];
     if (piece < 0) continue;
-    const std::array<std::int64_t, 3> ijk{v % n[0], (v / n[0]) % n[1], v / (n[0] * n[1])};
+    const std::array<std::int64_t, 3> ijk = splitNodeIndex(v, n);
     NodeBox& box = boxes[std::size_t(piece)];
-    for (int a = 0; a < 3; ++a) box.lo[a] = std::min(box.lo[a], ijk[a]), box.hi[a] = std::max(box.hi[a], ijk[a]);
+    for (int a = 0; a < 3; ++a) {
+      box.lo[a] = std::min(box.lo[a], ijk[a]), box.hi[a] = std::max(box.hi[a], ijk[a]);
+      box.index_sum[a] += double(ijk[a]);
+    }
   }
   return boxes;
 }
@@ -105,24 +109,20 @@ void joinThroughFinerGrid(const MuscleState& state, const Eigen::Vector3d& origi
       }
 }
 
-/// Mean of the nodes of the second largest joined piece (the first of equals).
-Eigen::Vector3d findStrayCentre(const GridPieces& labelled, DisjointSets& joined,
-                                const std::vector<std::int64_t>& nodes_of_joined, const Eigen::Vector3d& origin,
-                                double cell_mm, const std::array<std::int64_t, 3>& n) {
-  std::vector<int> order(nodes_of_joined.size());
-  for (size_t p = 0; p < order.size(); ++p) order[p] = static_cast<int>(p);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](int a, int b) { return nodes_of_joined[size_t(a)] > nodes_of_joined[size_t(b)]; });
-  const int stray = order[1];
+/// Mean of the nodes of the second largest joined piece (the first of equals), as an index.
+Eigen::Vector3d findStrayCentre(const std::vector<NodeBox>& boxes, DisjointSets& joined,
+                                const std::vector<std::int64_t>& nodes_of_joined) {
+  const auto largest_after = [&](int skip) {
+    int best = -1;
+    for (int p = 0; p < static_cast<int>(nodes_of_joined.size()); ++p)
+      if (p != skip && (best < 0 || nodes_of_joined[size_t(p)] > nodes_of_joined[size_t(best)])) best = p;
+    return best;
+  };
+  const int stray = largest_after(largest_after(-1));
   Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-  std::int64_t count = 0;
-  for (std::int64_t v = 0; v < n[0] * n[1] * n[2]; ++v) {
-    const int piece = labelled.piece_of_node[std::size_t(v)];
-    if (piece < 0 || joined.find(piece) != stray) continue;
-    sum += Eigen::Vector3d(double(v % n[0]), double((v / n[0]) % n[1]), double(v / (n[0] * n[1])));
-    ++count;
-  }
-  return origin + cell_mm * sum / double(count);
+  for (int p = 0; p < static_cast<int>(boxes.size()); ++p)
+    if (joined.find(p) == stray) sum += boxes[size_t(p)].index_sum;
+  return sum / double(nodes_of_joined[size_t(stray)]);
 }
 
 }  // namespace
@@ -156,7 +156,7 @@ MusclePieces countMusclePieces(const MuscleState& state, double cell_mm) {
   result.largest_volume_mm3 = double(largest_nodes) * node_mm3;
   result.stray_volume_mm3 = double(total - largest_nodes) * node_mm3;
   if (result.pieces > 1)
-    result.stray_centre_mm = findStrayCentre(labelled, joined, nodes_of_joined, box.min(), cell_mm, n);
+    result.stray_centre_mm = box.min() + cell_mm * findStrayCentre(piece_boxes, joined, nodes_of_joined);
   return result;
 }
 
