@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <limits>
 #include <sstream>
 #include <stdexcept>
@@ -12,6 +13,8 @@
 #include "fibres/line_of_action.h"
 #include "fit/surface_cache.h"
 #include "geometry/mesh_distance.h"
+#include "geometry/mesh_warning.h"
+#include "geometry/move_out_of_solids.h"
 #include "geometry/solid_mesh.h"
 #include "model/attachment_areas.h"
 #include "model/joint_centre.h"
@@ -39,6 +42,29 @@ TriangleMesh loadMesh_B(const BodyMesh& mesh) {
   TriangleMesh part = loadSolidMesh(mesh.path);
   part.vertices_mm = mesh.X_BM * (mesh.scale_to_mm.asDiagonal() * part.vertices_mm);
   return part;
+}
+
+/// A collision mesh of the skeleton: its body and its distance grid.
+struct BoneAtRest {
+  int body = 0;
+  std::shared_ptr<BoneDistanceGrid> grid;
+  std::string file_name;
+};
+
+/// Every collision mesh of the skeleton (findCollisionMeshes), one grid per mesh file and pose,
+/// shared by every muscle of the run. Built whether or not the muscle has contacts: its mesh is
+/// moved out of them at rest either way.
+std::vector<BoneAtRest> findBonesAtRest(const Skeleton& skeleton, const InitContext& context) {
+  std::vector<BoneAtRest> bones;
+  for (int body = 0; body < static_cast<int>(skeleton.getBodyNames().size()); ++body)
+    for (const BodyMesh* mesh : findCollisionMeshes(skeleton, body)) {
+      std::ostringstream key;
+      key << mesh->path << '@' << mesh->X_BM.matrix().format(Eigen::IOFormat(17)) << mesh->scale_to_mm.transpose();
+      bones.push_back(BoneAtRest{body, context.findOrMakeShared<BoneDistanceGrid>(
+                                           key.str(), [&] { return std::make_shared<BoneDistanceGrid>(loadMesh_B(*mesh)); }),
+                                 std::filesystem::path(mesh->path).filename().string()});
+    }
+  return bones;
 }
 
 /// The columns of the areas, one matrix (3×K).
@@ -81,18 +107,28 @@ void RBFMuscle::initialize(const InitContext& context) {
   if (blend.get() != "distance" && blend.get() != "joint_angle")
     throw FrameworkError("blend: '" + blend.get() + "'; expected 'distance' or 'joint_angle'");
   const Skeleton& skeleton = context.getSkeleton();
+  const std::vector<BoneAtRest> bones = findBonesAtRest(skeleton, context);
+  std::vector<PlacedSolid> solids;
+  for (const BoneAtRest& bone : bones)
+    solids.push_back(PlacedSolid{&bone.grid->getMeshDistance(), skeleton.getBodyTransform(bone.body), bone.file_name});
+  const std::string mesh_path = context.resolvePath(mesh_file.get());
+  TriangleMesh rest_mesh = loadSolidMesh(mesh_path);
+  if (const std::string moved = describeMoveOut(mesh_path, moveOutOfSolids(rest_mesh, solids)); !moved.empty())
+    printMeshWarning(moved);
+
   FitSettings fit_settings;
   fit_settings.max_centres = centres.get();
   SurfaceOrigin origin = SurfaceOrigin::kCache;
   const RbfSurface surface = loadOrFitSurface(
-      context.resolvePath(mesh_file.get()), surface_file.get().empty() ? "" : context.resolvePath(surface_file.get()),
-      fit_settings, origin, [this](const std::string& line) { std::fprintf(stderr, "%s: %s\n", getName().c_str(), line.c_str()); });
+      mesh_path, surface_file.get().empty() ? "" : context.resolvePath(surface_file.get()), fit_settings, origin,
+      [this](const std::string& line) { std::fprintf(stderr, "%s: %s\n", getName().c_str(), line.c_str()); },
+      [&solids](TriangleMesh& mesh) { moveOutOfSolids(mesh, solids); });
   frame_offset_mm_ = surface.frame_offset_mm;
   const Eigen::Translation3d to_M(-frame_offset_mm_);
 
   MuscleDefinition muscle;
   muscle.rest_field = surface.field;
-  muscle.rest_mesh_M = loadSolidMesh(context.resolvePath(mesh_file.get()));
+  muscle.rest_mesh_M = std::move(rest_mesh);
   muscle.rest_mesh_M.vertices_mm.colwise() -= frame_offset_mm_;
   muscle.origin_area_M = readArea_M(origin_area, context, false);
   muscle.insertion_area_M = readArea_M(insertion_area, context, true);
@@ -115,17 +151,11 @@ void RBFMuscle::initialize(const InitContext& context) {
 
   contact_bodies_.clear();
   if (contacts.get())
-    for (int body = 0; body < static_cast<int>(skeleton.getBodyNames().size()); ++body)
-      for (const BodyMesh* mesh : findCollisionMeshes(skeleton, body)) {
-        // One grid per mesh file and pose, shared by every muscle of the run.
-        std::ostringstream key;
-        key << mesh->path << '@' << mesh->X_BM.matrix().format(Eigen::IOFormat(17)) << mesh->scale_to_mm.transpose();
-        std::shared_ptr<BoneDistanceGrid> grid = context.findOrMakeShared<BoneDistanceGrid>(
-            key.str(), [&] { return std::make_shared<BoneDistanceGrid>(loadMesh_B(*mesh)); });
-        contact_bodies_.push_back(body);
-        muscle.bones.push_back(ClearanceBone{skeleton.getBodyNames()[static_cast<size_t>(body)], grid});
-        muscle.rest_X_MB.push_back(to_M * skeleton.getBodyTransform(body));
-      }
+    for (const BoneAtRest& bone : bones) {
+      contact_bodies_.push_back(bone.body);
+      muscle.bones.push_back(ClearanceBone{skeleton.getBodyNames()[static_cast<size_t>(bone.body)], bone.grid});
+      muscle.rest_X_MB.push_back(to_M * skeleton.getBodyTransform(bone.body));
+    }
 
   PipelineSettings settings;
   if (blend.get() == "joint_angle") settings.lattice.joint_centre_mm = findJointCentre_M(skeleton, muscle);

@@ -29,9 +29,11 @@ PY
 
 hip=models/hip/meshes
 shapes=models/shapes
-fit glmax_1000 $hip/gluteus_maximus_r.ply --centres 1000 --surface "$out/glmax_1000.ply"
-fit iliacus_2000 $hip/iliacus_r.ply --centres 2000 --surface "$out/iliacus_2000.ply"
-fit psoas_1000 $hip/psoas_major_r.ply --centres 1000 --surface "$out/psoas_1000.ply"
+# The scenes' muscles are fitted moved out of the bones at rest, as the scenes fit them.
+bones=$hip/pelvis_iliac_r.ply,$hip/pelvis_sacrum.ply,$hip/femur_r.ply
+fit glmax_1000 $hip/gluteus_maximus_r.ply --centres 1000 --out-of $bones --surface "$out/glmax_1000.ply"
+fit iliacus_2000 $hip/iliacus_r.ply --centres 2000 --out-of $bones --surface "$out/iliacus_2000.ply"
+fit psoas_1000 $hip/psoas_major_r.ply --centres 1000 --out-of $bones --surface "$out/psoas_1000.ply"
 fit glmax_50 $hip/gluteus_maximus_r.ply --centres 50
 fit box_500 $shapes/box.ply --centres 500
 fit rod_500 $shapes/rod.ply --centres 500

@@ -19,6 +19,7 @@ import numpy as np
 
 from readme_section import replace_readme_section
 from run_outputs import read_outputs
+from scene_bones import out_of_argument
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
@@ -42,7 +43,7 @@ def fitted_centres(out, muscle, factor):
         os.makedirs(os.path.dirname(path), exist_ok=True)
         print(f"resolution: fitting {mesh} with {n} centres", file=sys.stderr)
         subprocess.run([HOST, "fit", os.path.join(os.path.dirname(SCENE), mesh), "--centres", str(n),
-                        "-o", path, "--quiet"], check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+                        "-o", path, "--quiet"] + out_of_argument(SCENE), check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     return ["--set", f"{muscle}.centres={n}", "--set", f"{muscle}.surface_file={path}"]
 
 

@@ -63,6 +63,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 from readme_section import replace_readme_section
+from scene_bones import out_of_argument
 from speed_vs_error_report import bone_depth, compare, fmt, measure, plot, rows_of, section, write_csv
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
@@ -231,10 +232,11 @@ def settings_difference(a, b):
 
 class Surfaces:
     """The surface of each muscle at each centre count: the model's own .rbf at the model's count,
-    else a fit cached in `directory` (fitted when missing or fitted to another mesh)."""
+    else a fit cached in `directory` (fitted when missing or fitted to another mesh), of the mesh
+    moved out of the model's bones as the scene does (`out_of`, scene_bones.out_of_argument)."""
 
-    def __init__(self, host, directory):
-        self.host, self.directory = host, directory
+    def __init__(self, host, directory, out_of):
+        self.host, self.directory, self.out_of = host, directory, out_of
         self.fit_seconds = {}
 
     def own(self, muscle, centres):
@@ -246,7 +248,7 @@ class Surfaces:
         if own:
             return own
         stem = os.path.splitext(os.path.basename(muscle["mesh"]))[0]
-        target = os.path.join(self.directory, f"{stem}_{centres}.rbf")
+        target = os.path.join(self.directory, f"{stem}_{centres}{'_out_of_bones' if self.out_of else ''}.rbf")
         if os.path.isfile(target) and os.path.isfile(target[:-4] + ".json"):
             model_surface = muscle["surface"] if muscle["surface"] and os.path.isfile(muscle["surface"]) else None
             if model_surface is None or rbf_lines(target)["source_hash"] == rbf_lines(model_surface)["source_hash"]:
@@ -256,7 +258,8 @@ class Surfaces:
         say(f"  fitting {stem} with {centres} centres (cached as {os.path.relpath(target, ROOT)}) ...")
         partial = target[:-4] + ".partial.rbf"
         start = time.monotonic()
-        result = run_host([self.host, "fit", muscle["mesh"], "--centres", str(centres), "-o", partial, "--quiet"],
+        result = run_host([self.host, "fit", muscle["mesh"], "--centres", str(centres), "-o", partial, "--quiet"]
+                          + self.out_of,
                           f"fitting {stem} with {centres} centres")
         seconds = time.monotonic() - start
         lines = result.stdout.strip().splitlines()
@@ -415,7 +418,7 @@ def main():
     motions = {"base": model["motion"], "coarse": os.path.join(args.work, "motions",
                                                                f"flexion_step{COARSE_STEP_DEG:g}.mot")}
     coordinate = write_coarse_motion(model["motion"], motions["coarse"], COARSE_STEP_DEG)
-    surfaces = Surfaces(args.host, os.path.join(args.work, "cache"))
+    surfaces = Surfaces(args.host, os.path.join(args.work, "cache"), out_of_argument(args.model))
     runs_dir = os.path.join(args.work, "runs", mode)
     load_start, started, signature = os.getloadavg()[0], time.monotonic(), host_signature(args.host)
     results = []

@@ -56,9 +56,11 @@ void warnAboutShape(const TriangleMesh& mesh, const std::string& mesh_path, cons
   }
 }
 
-PreparedMesh prepareMesh(const std::string& mesh_path, bool fix_winding, const FitSettings& settings) {
+PreparedMesh prepareMesh(const std::string& mesh_path, bool fix_winding, const FitSettings& settings,
+                         const MeshAdjustFn& adjust = {}) {
   PreparedMesh prepared;
   prepared.mesh_M = loadSolidMesh(mesh_path, SolidMeshOptions{fix_winding});
+  if (adjust) adjust(prepared.mesh_M);
   warnAboutShape(prepared.mesh_M, mesh_path, printMeshWarning);
   const Eigen::AlignedBox3d box(prepared.mesh_M.vertices_mm.rowwise().minCoeff(),
                                 prepared.mesh_M.vertices_mm.rowwise().maxCoeff());
@@ -152,16 +154,16 @@ std::vector<std::string> describeSuspectFit(const FitMetrics& m, int mesh_compon
 }
 
 MeshFit fitMeshFile(const std::string& mesh_path, const FitSettings& settings, bool fix_winding,
-                    const FitProgressFn& progress) {
-  return fitPrepared(prepareMesh(mesh_path, fix_winding, settings), mesh_path, settings, progress);
+                    const FitProgressFn& progress, const MeshAdjustFn& adjust) {
+  return fitPrepared(prepareMesh(mesh_path, fix_winding, settings, adjust), mesh_path, settings, progress);
 }
 
 MeshFit fitMeshFileGlobalShape(const std::string& mesh_path, FitSettings settings, bool fix_winding,
                                double alpha_lo, double alpha_hi, int evaluations,
-                               const std::function<void(double, double)>& report) {
+                               const std::function<void(double, double)>& report, const MeshAdjustFn& adjust) {
   if (!(alpha_lo > 0 && alpha_hi > alpha_lo))
     throw std::invalid_argument("global shape search needs 0 < alpha_lo < alpha_hi");
-  const PreparedMesh prepared = prepareMesh(mesh_path, fix_winding, settings);
+  const PreparedMesh prepared = prepareMesh(mesh_path, fix_winding, settings, adjust);
   auto fitAt = [&](double log_alpha) {
     settings.global_shape_per_mm2 = std::exp(log_alpha);
     MeshFit fit = fitPrepared(prepared, mesh_path, settings, {});

@@ -49,23 +49,29 @@ constexpr int kMaxReportedSelfIntersections = 1000;
 std::vector<std::string> describeSuspectFit(const FitMetrics& metrics, int mesh_components,
                                             const std::string& mesh_path);
 
+/// Changes a loaded mesh (in its file's frame, mm) before it is fitted: moveOutOfSolids for a
+/// muscle that overlaps its bones.
+using MeshAdjustFn = std::function<void(TriangleMesh& mesh)>;
+
 /// Loads the mesh with loadSolidMesh (defects repaired where safe, with a warning on
 /// stderr; then validated: watertight, consistently wound — or rewound when
-/// `fix_winding`), moves it to the muscle frame M (origin at the centre
+/// `fix_winding`), applies `adjust` (when given), moves it to the muscle frame M (origin at the centre
 /// of its bounding box), samples, fits and measures. A mesh of several separate pieces, or one
 /// whose triangles cross (self_intersection.h), is fitted with a warning (printMeshWarning):
 /// the result is poor without being invalid.
 /// @throws MeshError for a bad mesh, for one spanning fewer than kMinCellsAcrossMesh cells
 ///   of the extracted surface, and when the fitted surface is empty (no f > 0 found: the
 ///   options do not suit the mesh's size); std::invalid_argument for bad settings.
+/// The .rbf names the mesh file by its hash (source_hash) either way.
 MeshFit fitMeshFile(const std::string& mesh_path, const FitSettings& settings, bool fix_winding,
-                    const FitProgressFn& progress = {});
+                    const FitProgressFn& progress = {}, const MeshAdjustFn& adjust = {});
 
 /// Chooses one global shape α for all centres by golden-section search on
 /// log α over [α_lo, α_hi], minimising C_m (at most `evaluations` fits), and
 /// returns the fit at the best α found. `report` hears each tried α and C_m.
 MeshFit fitMeshFileGlobalShape(const std::string& mesh_path, FitSettings settings, bool fix_winding,
                                double alpha_lo, double alpha_hi, int evaluations,
-                               const std::function<void(double alpha, double metric)>& report = {});
+                               const std::function<void(double alpha, double metric)>& report = {},
+                               const MeshAdjustFn& adjust = {});
 
 }  // namespace rbfmuscle

@@ -14,7 +14,8 @@ namespace rbfmuscle {
 
 RbfSurface loadOrFitSurface(const std::string& mesh_path, const std::string& rbf_path,
                             const FitSettings& settings, SurfaceOrigin& origin,
-                            const std::function<void(const std::string&)>& log) {
+                            const std::function<void(const std::string&)>& log,
+                            const MeshAdjustFn& adjust) {
   // The mesh must be a regular file before anything reads or hashes it (a device never ends).
   {
     const std::string problem = io::findInputFileProblem(mesh_path, "a mesh file");
@@ -50,7 +51,7 @@ RbfSurface loadOrFitSurface(const std::string& mesh_path, const std::string& rbf
       log("  fit round " + std::to_string(p.round) + ": " + std::to_string(p.centres) + "/" +
           std::to_string(p.max_centres) + " centres, rms surface error " + std::to_string(p.rms_surface_mm) + " mm");
   };
-  MeshFit fit = fitMeshFile(mesh_path, settings, false, progress);
+  MeshFit fit = fitMeshFile(mesh_path, settings, false, progress, adjust);
   if (log) log("  fitted: " + fit.surface.metrics_json);
   for (const std::string& warning : fit.warnings) printMeshWarning(warning);
   if (!rbf_path.empty()) writeRbfFile(rbf_path, fit.surface);

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
@@ -13,6 +14,8 @@
 #include "framework/interrupt.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_warning.h"
+#include "geometry/move_out_of_solids.h"
+#include "geometry/solid_mesh.h"
 #include "host/usage_error.h"
 #include "io/file_checks.h"
 
@@ -48,6 +51,8 @@ const char* const kFitUsage =
     "  --global-search LO,HI,K search the best global α in [LO, HI] with K fits (golden section,\n"
     "                          K from 2 to 100)\n"
     "  --fix-winding           rewind inconsistently wound triangles instead of failing\n"
+    "  --out-of A.ply,B.ply    closed meshes (mm, the mesh's frame) it must not lie in: vertices more\n"
+    "                          than 0.5 mm inside are moved out first, as a scene does with its bones\n"
     "  --quiet                 no progress on stderr\n";
 
 double parseNumber(const std::string& option, const std::string& text) {
@@ -73,6 +78,16 @@ std::vector<double> parseList(const std::string& option, const std::string& text
   while (std::getline(fields, item, ',')) values.push_back(parseNumber(option, item));
   if (values.empty()) throw UsageError("fit: " + option + " expects a comma-separated list of numbers");
   return values;
+}
+
+std::vector<std::string> parseFileList(const std::string& option, const std::string& text) {
+  std::vector<std::string> files;
+  std::stringstream fields(text);
+  std::string item;
+  while (std::getline(fields, item, ','))
+    if (!item.empty()) files.push_back(item);
+  if (files.empty()) throw UsageError("fit: " + option + " expects a comma-separated list of mesh files");
+  return files;
 }
 
 /// Fails before a long fit when the output cannot be written.
@@ -125,6 +140,7 @@ FitJob parseFitArguments(const std::vector<std::string>& args, bool require_outp
     else if (arg == "--global-shape") settings.global_shape_per_mm2 = parseNumber(arg, value());
     else if (arg == "--global-search") job.global_search = parseList(arg, value());
     else if (arg == "--fix-winding") job.fix_winding = true;
+    else if (arg == "--out-of") job.out_of = parseFileList(arg, value());
     else if (arg == "--quiet") job.quiet = true;
     else if (!arg.empty() && arg[0] == '-') throw UsageError("fit: unknown option '" + arg + "'\n" + kFitUsage);
     else if (job.mesh_path.empty()) job.mesh_path = arg;
@@ -173,9 +189,21 @@ MeshFit runFitJob(const FitJob& job, const FitProgressFn& progress,
   }
   if (!job.output_path.empty()) checkWritable(job.output_path);
   if (!job.surface_path.empty()) checkWritable(job.surface_path);
-  if (job.global_search.empty()) return fitMeshFile(job.mesh_path, job.settings, job.fix_winding, progress);
+  std::vector<std::unique_ptr<MeshDistance>> distances;
+  std::vector<PlacedSolid> solids;
+  for (const std::string& path : job.out_of) {
+    distances.push_back(std::make_unique<MeshDistance>(loadSolidMesh(path)));
+    solids.push_back(PlacedSolid{distances.back().get(), Eigen::Isometry3d::Identity(), path});
+  }
+  MeshAdjustFn move_out;
+  if (!solids.empty())
+    move_out = [&](TriangleMesh& mesh) {
+      if (const std::string moved = describeMoveOut(job.mesh_path, moveOutOfSolids(mesh, solids)); !moved.empty())
+        printMeshWarning(moved);
+    };
+  if (job.global_search.empty()) return fitMeshFile(job.mesh_path, job.settings, job.fix_winding, progress, move_out);
   return fitMeshFileGlobalShape(job.mesh_path, job.settings, job.fix_winding, job.global_search[0],
-                                job.global_search[1], static_cast<int>(job.global_search[2]), global_report);
+                                job.global_search[1], static_cast<int>(job.global_search[2]), global_report, move_out);
 }
 
 void writeFitOutputs(const FitJob& job, const MeshFit& fit) {

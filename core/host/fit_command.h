@@ -24,6 +24,7 @@ struct FitJob {
   bool quiet = false;
   bool help = false;                  ///< -h: nothing else was parsed
   std::vector<double> global_search;  ///< --global-search LO,HI,K ({} = none)
+  std::vector<std::string> out_of;    ///< --out-of: solids the mesh is moved out of first ({} = none)
 };
 
 /// Parses the arguments after "fit" and checks the settings, before any file is read.
@@ -32,7 +33,7 @@ struct FitJob {
 FitJob parseFitArguments(const std::vector<std::string>& args, bool require_output);
 
 /// Checks the files (no output is an input or the other output; the mesh is a regular file;
-/// every output can be written), then fits (fitMeshFile, or fitMeshFileGlobalShape with
+/// every output can be written), loads the --out-of solids, then fits (fitMeshFile, or fitMeshFileGlobalShape with
 /// --global-search; `global_report` hears each shape tried and its C_m). Writes nothing.
 /// @throws UsageError or std::runtime_error naming the file, and what fitMeshFile throws
 MeshFit runFitJob(const FitJob& job, const FitProgressFn& progress,

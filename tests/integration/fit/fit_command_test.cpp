@@ -12,6 +12,7 @@
 #include "geometry/mesh_check.h"
 #include "geometry/mesh_io.h"
 #include "support/run_host.h"
+#include "unit/geometry/test_meshes.h"
 
 namespace rbfmuscle {
 namespace {
@@ -70,6 +71,35 @@ TEST(FitCommand, WritesSurfaceMeshAndFigures) {
   EXPECT_EQ(report.components, 1);
   // The PLY is in the source frame: box.ply spans y ∈ [10, 90] mm.
   EXPECT_NEAR(mesh.calcBoundingBox().center().y(), 50.0, 2.0);
+}
+
+TEST(FitCommand, OutOfMovesTheMeshOutOfTheSolidsBeforeTheFit) {
+  // A solid over the box's top 4 mm (box.ply spans y ∈ [10, 90] mm, x and z ∈ [−50, 50] mm).
+  const fs::path dir = outDir("out_of");
+  TriangleMesh lid = test::makeCube(200.0);
+  lid.vertices_mm.colwise() += Eigen::Vector3d(-100.0, 86.0, -100.0);
+  writePly((dir / "lid.ply").string(), lid);
+  const HostResult r = runFit(kShapes + "box.ply --centres 80 -o " + (dir / "box.rbf").string() + " --out-of " + (dir / "lid.ply").string() + kSmall,
+                              "out_of");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.err.find("box.ply: "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("mm inside the solids it must not enter (the deepest 4 mm, in " + (dir / "lid.ply").string()),
+            std::string::npos)
+      << r.err;
+  // The fit's target is the moved box, its top 0.3 mm below the lid's face: 100 × 75.7 × 100 mm.
+  EXPECT_NEAR(jsonNumber(lastLine(r.out), "mesh_volume_mm3"), 100.0 * (86.0 - 0.3 - 10.0) * 100.0, 1.0) << r.out;
+  // The cache still names the mesh file.
+  EXPECT_EQ(readRbfFile((dir / "box.rbf").string()).source_hash, hashFile(kShapes + "box.ply"));
+}
+
+TEST(FitCommand, OutOfAMissingSolidFailsNamingItWithoutOutput) {
+  const fs::path dir = outDir("out_of_missing");
+  const HostResult r = runFit(kShapes + "box.ply --centres 10 -o " + (dir / "x.rbf").string() + " --out-of " +
+                                  kShapes + "no_such_solid.ply",
+                              "out_of_missing");
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_NE(r.err.find("no_such_solid.ply"), std::string::npos) << r.err;
+  EXPECT_FALSE(fs::exists(dir / "x.rbf"));
 }
 
 TEST(FitCommand, MissingMeshFailsWithoutOutput) {
