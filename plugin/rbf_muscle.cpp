@@ -107,6 +107,8 @@ void RBFMuscle::initialize(const InitContext& context) {
   if (blend.get() != "distance" && blend.get() != "joint_angle")
     throw FrameworkError("blend: '" + blend.get() + "'; expected 'distance' or 'joint_angle'");
   const Skeleton& skeleton = context.getSkeleton();
+  // The mesh lies in ground with the bones at the skeleton's rest pose; a part of it segmented
+  // into a bone is moved out before the fit and the map see it (move_out_of_solids.h).
   const std::vector<BoneAtRest> bones = findBonesAtRest(skeleton, context);
   std::vector<PlacedSolid> solids;
   for (const BoneAtRest& bone : bones)

@@ -55,14 +55,14 @@ using MeshAdjustFn = std::function<void(TriangleMesh& mesh)>;
 
 /// Loads the mesh with loadSolidMesh (defects repaired where safe, with a warning on
 /// stderr; then validated: watertight, consistently wound — or rewound when
-/// `fix_winding`), applies `adjust` (when given), moves it to the muscle frame M (origin at the centre
-/// of its bounding box), samples, fits and measures. A mesh of several separate pieces, or one
+/// `fix_winding`), applies `adjust` (when given), moves it to the muscle frame M (origin at
+/// the centre of its bounding box), samples, fits and measures. The surface names the mesh
+/// file by its hash (source_hash), adjusted or not. A mesh of several separate pieces, or one
 /// whose triangles cross (self_intersection.h), is fitted with a warning (printMeshWarning):
 /// the result is poor without being invalid.
 /// @throws MeshError for a bad mesh, for one spanning fewer than kMinCellsAcrossMesh cells
 ///   of the extracted surface, and when the fitted surface is empty (no f > 0 found: the
 ///   options do not suit the mesh's size); std::invalid_argument for bad settings.
-/// The .rbf names the mesh file by its hash (source_hash) either way.
 MeshFit fitMeshFile(const std::string& mesh_path, const FitSettings& settings, bool fix_winding,
                     const FitProgressFn& progress = {}, const MeshAdjustFn& adjust = {});
 

@@ -33,8 +33,9 @@ struct FitJob {
 FitJob parseFitArguments(const std::vector<std::string>& args, bool require_output);
 
 /// Checks the files (no output is an input or the other output; the mesh is a regular file;
-/// every output can be written), loads the --out-of solids, then fits (fitMeshFile, or fitMeshFileGlobalShape with
-/// --global-search; `global_report` hears each shape tried and its C_m). Writes nothing.
+/// every output can be written), loads the --out-of solids, then fits the mesh moved out of
+/// them (fitMeshFile, or fitMeshFileGlobalShape with --global-search; `global_report` hears
+/// each shape tried and its C_m). Writes nothing.
 /// @throws UsageError or std::runtime_error naming the file, and what fitMeshFile throws
 MeshFit runFitJob(const FitJob& job, const FitProgressFn& progress,
                   const std::function<void(double alpha, double metric)>& global_report = {});
