@@ -79,7 +79,8 @@ TEST(FitCommand, OutOfMovesTheMeshOutOfTheSolidsBeforeTheFit) {
   TriangleMesh lid = test::makeCube(200.0);
   lid.vertices_mm.colwise() += Eigen::Vector3d(-100.0, 86.0, -100.0);
   writePly((dir / "lid.ply").string(), lid);
-  const HostResult r = runFit(kShapes + "box.ply --centres 80 -o " + (dir / "box.rbf").string() + " --out-of " + (dir / "lid.ply").string() + kSmall,
+  const HostResult r = runFit(kShapes + "box.ply --centres 80 -o " + (dir / "box.rbf").string() + " --out-of " +
+                                  (dir / "lid.ply").string() + kSmall,
                               "out_of");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.err.find("box.ply: "), std::string::npos) << r.err;

@@ -10,14 +10,14 @@
 /// than the femur moves there plus 1 mm; the volume (counted on a 2 mm grid, check_pieces_cell_mm)
 /// of every muscle in one piece in every scene (the psoas's in the rotation because its mesh,
 /// segmented up to 3.5 mm inside the ilium, is moved out of it at rest: docs/design.md, Contacts
-/// by composition); the gluteus's tracked surface in one piece in every scene, and the iliacus's in adduction, rotation and gait. Where
-/// a muscle lies on a bone its tracked vertices find no surface and their triangles are dropped,
-/// which cuts the tracked mesh of the iliacus and the psoas in flexion; the pieces of both are
-/// printed for every muscle. The main job's flexion
-/// (0→80° in 1° frames) runs again in 10° frames, and the gluteus flexes on to 120°, with the
-/// same checks. In the main job also: the gluteus's fibres lengthen and the iliacus's and the
-/// psoas's shorten at every frame, the psoas to at most 0.93 of its rest length, and the
-/// gluteus's hip flexion moment arm falls from 40° to 60° (also in 10° frames), as measured.
+/// by composition); the gluteus's tracked surface in one piece in every scene, and the
+/// iliacus's in adduction, rotation and gait. Where a muscle lies on a bone its tracked vertices
+/// find no surface and their triangles are dropped, which cuts the tracked mesh of the iliacus and
+/// the psoas in flexion; the pieces of both are printed for every muscle. The main job's flexion
+/// (0→80° in 1° frames) runs again in 10° frames, and the gluteus flexes on to 120°, with the same
+/// checks. In the main job also: the gluteus's fibres lengthen and the iliacus's and the psoas's
+/// shorten at every frame, the psoas to at most 0.93 of its rest length, and the gluteus's hip
+/// flexion moment arm falls from 40° to 60° (also in 10° frames), as measured.
 #include <gtest/gtest.h>
 #include <unistd.h>
 

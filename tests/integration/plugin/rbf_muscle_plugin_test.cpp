@@ -36,6 +36,14 @@ fs::path testDir(const std::string& name) {
   return dir;
 }
 
+/// Writes a motion of two frames (0 and 1 s) with no coordinate into `dir`: the bones stay at
+/// rest. Returns its path.
+fs::path writeStillMotion(const fs::path& dir) {
+  const fs::path path = dir / "still.mot";
+  std::ofstream(path) << "still\nversion=1\nnRows=2\nnColumns=1\ninDegrees=yes\nendheader\ntime\n0\n1\n";
+  return path;
+}
+
 /// Writes a one-muscle gluteus model into `dir` and returns its path.
 fs::path writeModel(const fs::path& dir, const std::string& surface_file, const std::string& origin = kOrigin,
                     const std::string& motion = "hip_flexion_0_80_step10.mot", const fs::path& skeleton = kHip / "hip_r.urdf") {
@@ -241,8 +249,8 @@ TEST(RBFMusclePlugin, BonesThatCannotTurnAreRefusedByTheDefaultBlendNamingTheDis
   test::replaceAll(urdf, "type=\"revolute\"", "type=\"fixed\"");
   test::replaceAll(urdf, "filename=\"meshes/", "filename=\"" + (kHip / "meshes").string() + "/");
   std::ofstream(dir / "fixed.urdf") << urdf;
-  std::ofstream(dir / "still.mot") << "still\nversion=1\nnRows=2\nnColumns=1\ninDegrees=yes\nendheader\ntime\n0\n1\n";
-  const fs::path model = writeModel(dir, kCachedGluteus, kOrigin, (dir / "still.mot").string(), dir / "fixed.urdf");
+  const fs::path still = writeStillMotion(dir);
+  const fs::path model = writeModel(dir, kCachedGluteus, kOrigin, still.string(), dir / "fixed.urdf");
   const HostResult r = runModel(model, dir / "out", "fixed_joint");
   EXPECT_EQ(r.exit_code, 1);
   EXPECT_NE(r.err.find("blend 'joint_angle': no rotational coordinate turns femur_r relative to pelvis; use 'distance'"),
@@ -255,12 +263,12 @@ TEST(RBFMusclePlugin, AMuscleSegmentedIntoItsBoneIsMovedOutAtRestWithAWarningEve
   // The psoas lies up to 3.5 mm inside the ilium as segmented. Its stored surface is the fit of
   // the moved mesh, so the run loads it from the cache.
   const fs::path dir = testDir("moved_out");
-  std::ofstream(dir / "still.mot") << "still\nversion=1\nnRows=2\nnColumns=1\ninDegrees=yes\nendheader\ntime\n0\n1\n";
+  const fs::path still = writeStillMotion(dir);
   const fs::path model = dir / "psoas.xml";
   std::ofstream(model) << "<?xml version=\"1.0\"?>\n<RBFMuscleModel version=\"1\" name=\"psoas_test\">\n"
                        << "  <skeleton file=\"" << (kHip / "hip_r.urdf").string() << "\"/>\n"
                        << "  <plugin file=\"librbfmuscle_plugin.so\"/>\n"
-                       << "  <motion file=\"" << (dir / "still.mot").string() << "\"/>\n"
+                       << "  <motion file=\"" << still.string() << "\"/>\n"
                        << "  <components>\n    <RBFMuscle name=\"psoas_r\">\n"
                        << "      <mesh_file>" << (kHip / "meshes/psoas_major_r.ply").string() << "</mesh_file>\n"
                        << "      <surface_file>" << (kHip / "surfaces/psoas_major_r.rbf").string() << "</surface_file>\n"
