@@ -365,11 +365,18 @@ void RBFMuscle::appendFrameGeometry(std::vector<FrameGeometry>& geometry) const 
   geometry.push_back(FrameGeometry{getName(), std::move(surface), state.surface_M.triangles, {}});
   const RestFibres* rest = pipeline_->getRestFibres();
   if (!rest) return;
-  Eigen::Matrix3Xd points = state.fibre_points_mm;
+  // Each fibre from its origin attachment through its points to its insertion attachment.
+  const Eigen::Index inside = state.fibre_points_mm.cols();
+  Eigen::Matrix3Xd points(3, inside + state.fibre_attachments_mm.cols());
+  points << state.fibre_points_mm, state.fibre_attachments_mm;
   points.colwise() += frame_offset_mm_;
   std::vector<std::vector<int>> polylines(static_cast<size_t>(rest->count));
-  for (int i = 0; i < rest->count; ++i)
-    for (int j = 0; j <= rest->segments; ++j) polylines[static_cast<size_t>(i)].push_back(i * (rest->segments + 1) + j);
+  for (int i = 0; i < rest->count; ++i) {
+    std::vector<int>& line = polylines[static_cast<size_t>(i)];
+    line.push_back(static_cast<int>(inside) + 2 * i);
+    for (int j = 0; j <= rest->segments; ++j) line.push_back(i * (rest->segments + 1) + j);
+    line.push_back(static_cast<int>(inside) + 2 * i + 1);
+  }
   geometry.push_back(FrameGeometry{getName() + "_fibres", std::move(points), Eigen::Matrix3Xi(3, 0), std::move(polylines)});
 }
 

@@ -1,13 +1,14 @@
 #!/usr/bin/python3
 # SPDX-License-Identifier: Apache-2.0
-"""How far each muscle's fibre ends lie from their attachment areas, at rest.
+"""How far each muscle's fibres reach their attachment areas, at rest.
 
 Loads a scene (default models/hip/hip_flexion.xml) through the Python module, steps it at rest
 with geometry, and for every muscle whose origin_area and insertion_area name clouds of a
-landmark file (`FILE: NAME, NAME`) prints the distance from each fibre end to the nearest point
-of its area's clouds (mm): minimum, median and maximum over the fibres. The ends move rigidly
-with their bones (the hip scenes' tests hold them within 0.5 mm of that), so the distances at
-rest hold at every frame.
+landmark file (`FILE: NAME, NAME`) prints, over the fibres (minimum / median / maximum, mm):
+the distance from each fibre's attachment (its first or last point) to the nearest point of its
+area's clouds, and the length of its tendon, from that attachment to the fibre's last point
+inside the muscle. The attachments and those points move rigidly with their bones (the hip
+scenes' tests hold them there), so the distances at rest hold at every frame.
 
 Usage: PYTHONPATH=build/python /usr/bin/python3 scripts/fibre_end_distances.py [MODEL.xml]
 """
@@ -37,23 +38,29 @@ def read_area(model_dir, spec):
     return np.array([p["mm"] for name in names.split(",") for p in clouds[name.strip()]], dtype=float)
 
 
+def summary(values):
+    """min / median / max, to 0.1 mm."""
+    return f"{values.min():.1f} / {np.median(values):.1f} / {values.max():.1f}"
+
+
 def main():
     model_path = sys.argv[1] if len(sys.argv) > 1 else os.path.join(ROOT, "models", "hip", "hip_flexion.xml")
     model_dir = os.path.dirname(os.path.abspath(model_path))
     model = rbfmuscle.Model(model_path)
     model.step({}, geometry=True)
-    print("| muscle | end | to the nearest area point, min / median / max (mm) |")
-    print("|---|---|---|")
+    print("| muscle | end | attachment to the nearest area point, min / median / max (mm) | tendon length, min / median / max (mm) |")
+    print("|---|---|---|---|")
     for muscle in ElementTree.parse(model_path).getroot().iter("RBFMuscle"):
         name = muscle.get("name")
         fibres = model.fibres(name)
-        for end, column in (("origin", 0), ("insertion", -1)):
+        for end, column, inside in (("origin", 0, 1), ("insertion", -1, -2)):
             area = read_area(model_dir, muscle.findtext(end + "_area", ""))
             if area is None:
                 continue
             ends = fibres[:, column, :]
             distances = np.sqrt(((ends[:, None, :] - area[None, :, :]) ** 2).sum(axis=2)).min(axis=1)
-            print(f"| {name} | {end} | {distances.min():.1f} / {np.median(distances):.1f} / {distances.max():.1f} |")
+            tendons = np.linalg.norm(fibres[:, inside, :] - ends, axis=1)
+            print(f"| {name} | {end} | {summary(distances)} | {summary(tendons)} |")
 
 
 if __name__ == "__main__":

@@ -55,6 +55,13 @@ double distanceToRegion(const Eigen::Vector3d& p, const Eigen::Matrix3Xd& region
   return std::sqrt((region.colwise() - p).colwise().squaredNorm().minCoeff());
 }
 
+/// The region point nearest p.
+Eigen::Vector3d findNearestRegionPoint(const Eigen::Vector3d& p, const Eigen::Matrix3Xd& region) {
+  Eigen::Index nearest = 0;
+  (region.colwise() - p).colwise().squaredNorm().minCoeff(&nearest);
+  return region.col(nearest);
+}
+
 /// N fibre ends spread over the attachment near `region` (file comment, step 2), among the
 /// `allowed` nodes; `distance` holds each node's distance to the region (mm).
 std::vector<int> chooseEnds(const InteriorGrid& grid, const Eigen::Matrix3Xd& region, const Eigen::VectorXd& distance,
@@ -242,7 +249,9 @@ double distanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, con
 }
 
 void measureCoverage(const InteriorGrid& grid, RestFibres& fibres) {
-  const double total_length = fibres.lengths_mm.sum();
+  Eigen::VectorXd inside_lengths_mm;  // without the tendons, which need not run through the volume
+  calcFibreLengths(fibres.points_mm, fibres.segments, inside_lengths_mm);
+  const double total_length = inside_lengths_mm.sum();
   fibres.ideal_radius_mm = std::sqrt(grid.calcVolume() / (M_PI * std::max(total_length, 1e-12)));
   const Eigen::Index n = grid.nodes_mm.cols();
   const Eigen::Index stride = std::max<Eigen::Index>(1, n / 4000);
@@ -352,11 +361,20 @@ RestFibres generateFibres(const GaussianField& field, const Eigen::Matrix3Xd& or
       }
     }
   }
+  // Tendons to the areas (file comment, step 7).
+  const int sampled_per = settings.segments + 1;
+  fibres.attachments_mm.resize(3, 2 * static_cast<Eigen::Index>(settings.count));
+  for (int i = 0; i < settings.count; ++i) {
+    const Eigen::Index first = static_cast<Eigen::Index>(i) * sampled_per;
+    fibres.attachments_mm.col(2 * i) = findNearestRegionPoint(fibres.points_mm.col(first), origin_region_mm);
+    fibres.attachments_mm.col(2 * i + 1) =
+        findNearestRegionPoint(fibres.points_mm.col(first + settings.segments), insertion_region_mm);
+  }
   Eigen::VectorXd values;
   field.calcValues(fibres.points_mm, values);
   fibres.min_value = values.minCoeff();
   fibres.points_below_margin = static_cast<int>((values.array() < settings.projection.margin_mm).count());
-  calcFibreLengths(fibres.points_mm, fibres.segments, fibres.lengths_mm);
+  calcFibreLengths(fibres.points_mm, fibres.segments, fibres.attachments_mm, fibres.lengths_mm);
   measureCoverage(grid, fibres);
   return fibres;
 }

@@ -139,4 +139,16 @@ void calcFibreLengths(const Eigen::Matrix3Xd& points_mm, int segments, Eigen::Ve
   }
 }
 
+void calcFibreLengths(const Eigen::Matrix3Xd& points_mm, int segments, const Eigen::Matrix3Xd& attachments_mm,
+                      Eigen::VectorXd& out) {
+  calcFibreLengths(points_mm, segments, out);
+  if (attachments_mm.cols() != 2 * out.size())
+    throw std::invalid_argument("calcFibreLengths: " + std::to_string(attachments_mm.cols()) + " attachments for " +
+                                std::to_string(out.size()) + " fibres (2 each)");
+  const Eigen::Index per = segments + 1;
+  for (Eigen::Index i = 0; i < out.size(); ++i)
+    out(i) += (points_mm.col(i * per) - attachments_mm.col(2 * i)).norm() +
+              (points_mm.col(i * per + segments) - attachments_mm.col(2 * i + 1)).norm();
+}
+
 }  // namespace rbfmuscle

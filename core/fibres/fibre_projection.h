@@ -101,4 +101,11 @@ void checkProjectionSettings(const ProjectionSettings& settings);
 /// @throws std::invalid_argument if the column count is not a multiple of S+1 or S < 1.
 void calcFibreLengths(const Eigen::Matrix3Xd& points_mm, int segments, Eigen::VectorXd& out);
 
+/// The same with tendons: fibre i also runs from its origin attachment (column 2i of
+/// `attachments_mm`, 3×2N) to its first point and from its last point to its insertion
+/// attachment (column 2i+1), and those two distances count in L_i (mm).
+/// @throws std::invalid_argument as above, or if `attachments_mm` has not 2N columns.
+void calcFibreLengths(const Eigen::Matrix3Xd& points_mm, int segments, const Eigen::Matrix3Xd& attachments_mm,
+                      Eigen::VectorXd& out);
+
 }  // namespace rbfmuscle

@@ -19,8 +19,11 @@ FibreStage::FibreStage(std::shared_ptr<TissueLattice> lattice, RestFibres rest, 
     tied[static_cast<size_t>(i * per + rest_.segments)] = 1;
   }
   binding_ = lattice_->bind(rest_.points_mm, tied);
+  std::vector<int> attached_to(static_cast<size_t>(rest_.attachments_mm.cols()));
+  for (size_t a = 0; a < attached_to.size(); ++a) attached_to[a] = static_cast<int>(a % 2);
+  attachment_binding_ = lattice_->bind(rest_.attachments_mm, attached_to);
   lists_ = findMaterialNeighbours(rest_field, rest_.points_mm);
-  calcFibreLengths(rest_.points_mm, rest_.segments, rest_.lengths_mm);
+  calcFibreLengths(rest_.points_mm, rest_.segments, rest_.attachments_mm, rest_.lengths_mm);
   rest_mean_mm_ = rest_.lengths_mm.mean();
   lengths_mm_ = rest_.lengths_mm;
 }
@@ -28,6 +31,7 @@ FibreStage::FibreStage(std::shared_ptr<TissueLattice> lattice, RestFibres rest, 
 void FibreStage::run(MuscleState& state, const FrameInput&) {
   Eigen::Matrix3Xd& points = state.fibre_points_mm;
   lattice_->carry(binding_, points);
+  lattice_->carry(attachment_binding_, state.fibre_attachments_mm);
   const int per = rest_.segments + 1, segments = rest_.segments;
   // 0. A taut muscle's interior fibre points move towards the taut map's chords, as far as the
   // muscle allows. The whole field: a point can end several mm from its rest kernels.
@@ -90,7 +94,7 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
                                                 static_cast<double>(j - a) / (b - a), p);
       points.col(c) = p;
     }
-  calcFibreLengths(points, segments, lengths_mm_);
+  calcFibreLengths(points, segments, state.fibre_attachments_mm, lengths_mm_);
   const double mean = lengths_mm_.mean();
   report_ = Report{mean, lengths_mm_.minCoeff(), lengths_mm_.maxCoeff(), mean / rest_mean_mm_,
                    static_cast<double>(projected), static_cast<double>((values_.array() <= 0.0).count()), end_offset,

@@ -11,8 +11,8 @@
 
 namespace rbfmuscle {
 
-/// Carries the rest fibres by the tissue map (their ends rigid with the origin and
-/// insertion bones). Where the muscle is stretched, its fibres are taut: each interior point
+/// Carries the rest fibres by the tissue map (their ends and their attachments on the areas
+/// rigid with the origin and insertion bones; the tendons between count in the lengths). Where the muscle is stretched, its fibres are taut: each interior point
 /// inside the muscle moves towards its place in the taut map (tissue_lattice.h, step 4, the
 /// chords between the bones instead of arcs about their joint) until it would leave the muscle
 /// min(f, s), so a taut fibre straightens within the muscle and lies on a bone it meets. Then
@@ -59,6 +59,7 @@ class FibreStage final : public FrameStage {
   RestFibres rest_;
   ProjectionSettings projection_;
   LatticeBinding binding_;
+  LatticeBinding attachment_binding_;  ///< the attachments, tied to bone 0 (origin) and 1 (insertion)
   NeighbourLists lists_;
   double rest_mean_mm_ = 0.0;
   static constexpr long kBlock = 64;  ///< fibre points per shared block (parallel_blocks.h)

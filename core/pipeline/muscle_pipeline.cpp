@@ -121,6 +121,7 @@ MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const Pipelin
     auto fibre_stage = std::make_unique<FibreStage>(lattice_, std::move(fibres), rest, ProjectionSettings{});
     fibres_ = fibre_stage.get();
     state_->fibre_points_mm = fibres_->getRest().points_mm;
+    state_->fibre_attachments_mm = fibres_->getRest().attachments_mm;
     stages_[kFibres] = std::move(fibre_stage);
   }
   auto surface = std::make_unique<SurfaceStage>(lattice_, std::move(rest_surface), rest, settings.surface);

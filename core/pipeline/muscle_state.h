@@ -37,6 +37,7 @@ struct MuscleState {
   Eigen::VectorXd clearance_mm;       ///< s at each quadrature point (M); +∞ far from the bones
   const BoneClearance* bones = nullptr;  ///< posed bones this frame; null without contacts
   Eigen::Matrix3Xd fibre_points_mm;   ///< current fibre points (3×N(S+1))
+  Eigen::Matrix3Xd fibre_attachments_mm;  ///< current fibre attachments on the areas (3×2N, RestFibres)
   TriangleMesh surface_M;             ///< tracked surface (when wanted)
 };
 

@@ -87,7 +87,8 @@ def test_surface_and_fibres_of_a_frame(flexion):
     assert triangles.min() >= 0 and triangles.max() < len(vertices)
     assert np.isfinite(vertices).all()
     fibres = flexion.fibres("iliacus_r")
-    assert fibres.shape == (100, 16, 3) and np.isfinite(fibres).all()  # 15 segments per fibre
+    # 15 segments per fibre, and its attachments on the areas at both ends
+    assert fibres.shape == (100, 18, 3) and np.isfinite(fibres).all()
     # The fibres' lengths are the fibre_length_mm output.
     lengths = np.linalg.norm(np.diff(fibres, axis=1), axis=2).sum(axis=1)
     assert np.allclose(lengths, flexion.output("iliacus_r.fibre_length_mm"), rtol=1e-9)

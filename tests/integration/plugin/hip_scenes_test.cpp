@@ -3,7 +3,9 @@
 /// through the host as the README does, with their frame meshes. At every frame, for every
 /// muscle: finite outputs, the volume held, and every tracked surface vertex at most 0.5 mm
 /// inside the femur, the ilium or the sacrum (exact distance to the posed meshes), and every
-/// fibre end within 0.5 mm of its place on its bone, and its hip flexion moment arm of the
+/// fibre end within 0.5 mm of its place on its bone, every fibre's first and last point (its
+/// attachments) within 0.5 mm of its origin area on the pelvis and its insertion area on the
+/// femur (the scene's clouds, posed), and its hip flexion moment arm of the
 /// published sign (the gluteus extends the hip, the iliacus and the psoas flex it), and every
 /// fibre point inside, and no vertex of its tracked surface further from the previous frame's
 /// surface (its tracked mesh, or the vertex's own last place where that mesh lost triangles)
@@ -22,6 +24,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -32,9 +35,11 @@
 
 #include "collision/bone_distance_grid.h"
 #include "framework/frame_geometry.h"
+#include "framework/model_document.h"
 #include "geometry/mesh_distance.h"
 #include "geometry/mesh_io.h"
 #include "geometry/mesh_measures.h"
+#include "model/attachment_areas.h"
 #include "model/motion.h"
 #include "model/skeleton.h"
 #include "model/storage_file.h"
@@ -168,6 +173,43 @@ double checkOutputs(const StorageTable& table, size_t row, const std::string& mu
   return r[outside];
 }
 
+/// A muscle's origin (index 0, on the pelvis) and insertion (1, on the femur) areas at rest as
+/// the scene names them (ground, mm).
+std::array<Eigen::Matrix3Xd, 2> readAreas(const std::string& scene, const std::string& muscle) {
+  const ModelDocument document = readModelDocument((kHip / (scene + ".xml")).string());
+  std::array<Eigen::Matrix3Xd, 2> areas;
+  for (const ComponentSpec& component : document.components) {
+    if (component.name != muscle) continue;
+    for (const PropertySpec& property : component.properties)
+      for (int end = 0; end < 2; ++end)
+        if (property.name == (end == 0 ? "origin_area" : "insertion_area"))
+          for (const AttachmentArea& area : parseAttachmentAreaSpec(property.text, document.directory)) {
+            Eigen::Matrix3Xd& all = areas[static_cast<size_t>(end)];
+            all.conservativeResize(3, all.cols() + area.points_mm.cols());
+            all.rightCols(area.points_mm.cols()) = area.points_mm;
+          }
+  }
+  EXPECT_GT(areas[0].cols(), 0) << muscle << " has no origin area in " << scene;
+  EXPECT_GT(areas[1].cols(), 0) << muscle << " has no insertion area in " << scene;
+  return areas;
+}
+
+/// The farthest of a frame's fibre attachments (each polyline's first and last point) from the
+/// nearest point of its area, the pelvis's at rest and the femur's moved by `femur_motion` (mm).
+double calcAttachmentOffset(const FrameGeometry& fibres, const std::array<Eigen::Matrix3Xd, 2>& areas,
+                            const Eigen::Isometry3d& femur_motion) {
+  EXPECT_FALSE(fibres.polylines.empty());
+  double farthest = 0.0;
+  for (const std::vector<int>& line : fibres.polylines)
+    for (int end = 0; end < 2; ++end) {
+      const Eigen::Vector3d p = fibres.vertices_mm.col(end == 0 ? line.front() : line.back());
+      const Eigen::Vector3d p_rest = end == 0 ? p : Eigen::Vector3d(femur_motion.inverse() * p);
+      const double to_area = std::sqrt((areas[static_cast<size_t>(end)].colwise() - p_rest).colwise().squaredNorm().minCoeff());
+      farthest = std::max(farthest, to_area);
+    }
+  return farthest;
+}
+
 /// The bones a tracked surface must stay out of (the femur in its own frame).
 struct SceneBones {
   Bone femur{"femur_r"}, ilium{"pelvis_iliac_r"}, sacrum{"pelvis_sacrum"};
@@ -250,8 +292,13 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
     ASSERT_GE(stray_x, 0) << muscle;
     const size_t stray_x_column = static_cast<size_t>(stray_x);
     SurfaceWatch watch(bones);
+    const std::array<Eigen::Matrix3Xd, 2> areas = readAreas(scene, muscle);
     for (size_t row = 0; row < table.rows.size(); ++row) {
       most_outside = std::max(most_outside, checkOutputs(table, row, muscle, checks));
+      EXPECT_LE(calcAttachmentOffset(readFrame(out / "meshes", muscle + "_fibres", static_cast<int>(row)), areas,
+                                     femur_motion[row]),
+                0.5)
+          << muscle << ": a fibre's attachment left its area at frame " << row;
       const Eigen::Isometry3d femur_step =
           row > 0 ? femur_motion[row] * femur_motion[row - 1].inverse() : Eigen::Isometry3d::Identity();
       const int pieces = watch.addFrame(readFrame(out / "meshes", muscle, static_cast<int>(row)), static_cast<int>(row),

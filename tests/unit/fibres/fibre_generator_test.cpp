@@ -43,15 +43,62 @@ TEST_F(RodFibres, EveryPointIsInsideWithTheMargin) {
 
 TEST_F(RodFibres, RunFromOriginToInsertion) {
   const RestFibres& f = *fibres_;
+  Eigen::VectorXd inside;  // each fibre's length without its tendons
+  calcFibreLengths(f.points_mm, 10, inside);
   for (int i = 0; i < f.count; ++i) {
     const Eigen::Vector3d a = f.points_mm.col(i * 11), b = f.points_mm.col(i * 11 + 10);
     EXPECT_LE((a - test::rodOrigin().col(0)).norm(), f.attachment_radius_origin_mm + f.end_climb_max_mm + 1e-9) << i;
     EXPECT_LE((b - test::rodInsertion().col(0)).norm(), f.attachment_radius_insertion_mm + f.end_climb_max_mm + 1e-9) << i;
     // x increases along each fibre (the rod is straight), lengths at least the chord.
     for (int j = 0; j < 10; ++j) EXPECT_LT(f.points_mm(0, i * 11 + j), f.points_mm(0, i * 11 + j + 1)) << i << " " << j;
-    EXPECT_GE(f.lengths_mm(i), (b - a).norm() - 1e-9);
-    EXPECT_LE(f.lengths_mm(i), 1.1 * (b - a).norm()) << "fibre " << i << " wanders";
+    EXPECT_GE(inside(i), (b - a).norm() - 1e-9);
+    EXPECT_LE(inside(i), 1.1 * (b - a).norm()) << "fibre " << i << " wanders";
+    // Tendons from the areas' points (one each here) to the ends count in the length.
+    EXPECT_EQ(f.attachments_mm.col(2 * i), test::rodOrigin().col(0)) << i;
+    EXPECT_EQ(f.attachments_mm.col(2 * i + 1), test::rodInsertion().col(0)) << i;
+    EXPECT_NEAR(f.lengths_mm(i), (a - test::rodOrigin().col(0)).norm() + inside(i) +
+                                     (test::rodInsertion().col(0) - b).norm(), 1e-9) << i;
   }
+}
+
+TEST(FibreGenerator, EachFibreIsAttachedToTheAreaPointsNearestItsEnds) {
+  const GaussianField field = test::makeFibreRod();
+  // Areas of several points around each end of the rod, some beyond its surface.
+  Eigen::Matrix3Xd origin(3, 4), insertion(3, 3);
+  origin << -32, -33, -32, -36, 0, 5, -6, 0, 0, 1, 2, -4;
+  insertion << 32, 34, 31, 4, -3, 0, 0, 3, -5;
+  const RestFibres f = generateFibres(field, origin, insertion, test::makeSmallFibreSettings());
+  ASSERT_EQ(f.attachments_mm.cols(), 2 * f.count);
+  const int per = f.segments + 1;
+  const auto nearest = [](const Eigen::Matrix3Xd& area, const Eigen::Vector3d& p) {
+    Eigen::Index k = 0;
+    (area.colwise() - p).colwise().squaredNorm().minCoeff(&k);
+    return Eigen::Vector3d(area.col(k));
+  };
+  int used_origin_points = 0;
+  for (Eigen::Index k = 0; k < origin.cols(); ++k)
+    for (int i = 0; i < f.count; ++i)
+      if (f.attachments_mm.col(2 * i) == origin.col(k)) {
+        ++used_origin_points;
+        break;
+      }
+  for (int i = 0; i < f.count; ++i) {
+    EXPECT_EQ(f.attachments_mm.col(2 * i), nearest(origin, f.points_mm.col(i * per))) << i;
+    EXPECT_EQ(f.attachments_mm.col(2 * i + 1), nearest(insertion, f.points_mm.col(i * per + f.segments))) << i;
+  }
+  EXPECT_GE(used_origin_points, 2) << "the fibres spread over the area's points";
+}
+
+TEST(FibreLengths, TendonsToTheAttachmentsCount) {
+  Eigen::Matrix3Xd points(3, 6), attachments(3, 4);
+  points << 0, 1, 3, 0, 0, 0, 0, 0, 0, 0, 2, 4, 0, 0, 0, 0, 0, 0;  // fibre 0 along x, fibre 1 along y
+  attachments << -1, 3, 0, 0, 0, 4, -2, 7, 0, 0, 0, 0;
+  Eigen::VectorXd lengths;
+  calcFibreLengths(points, 2, attachments, lengths);
+  ASSERT_EQ(lengths.size(), 2);
+  EXPECT_DOUBLE_EQ(lengths(0), 1.0 + 3.0 + 4.0);
+  EXPECT_DOUBLE_EQ(lengths(1), 2.0 + 4.0 + 3.0);
+  EXPECT_THROW(calcFibreLengths(points, 2, Eigen::Matrix3Xd(3, 3), lengths), std::invalid_argument);
 }
 
 TEST_F(RodFibres, EndsSpreadAndPairByPosition) {
