@@ -101,6 +101,34 @@ double placeBetweenInsideNeighbours(const ImplicitField& field, const Projection
   return projectInside(field, settings, p_mm).value;
 }
 
+double climbByPatternSearch(const ImplicitField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm) {
+  checkProjectionSettings(settings);
+  const Eigen::Vector3d start = p_mm;
+  double f = field.calcValue(p_mm), step = settings.max_step_mm;
+  for (int moves = 0, halvings = 0; f <= 0.0 && moves < settings.max_steps && halvings <= settings.max_halvings;) {
+    Eigen::Vector3d best = p_mm;
+    double best_f = f;
+    for (int x = -1; x <= 1; ++x)
+      for (int y = -1; y <= 1; ++y)
+        for (int z = -1; z <= 1; ++z) {
+          if (x == 0 && y == 0 && z == 0) continue;
+          const Eigen::Vector3d candidate = p_mm + step * Eigen::Vector3d(x, y, z).normalized();
+          const double value = field.calcValue(candidate);
+          if (value > best_f) best = candidate, best_f = value;
+        }
+    if (best_f > f) {
+      p_mm = best, f = best_f, ++moves;
+    } else {
+      step /= 2, ++halvings;
+    }
+  }
+  if (!(f > 0.0)) {
+    p_mm = start;
+    return field.calcValue(start);
+  }
+  return projectInside(field, settings, p_mm).value;
+}
+
 Eigen::Vector3d advanceInside(const ImplicitField& field, const ProjectionSettings& settings,
                               const Eigen::Vector3d& from_mm, const Eigen::Vector3d& to_mm) {
   checkProjectionSettings(settings);

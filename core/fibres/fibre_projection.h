@@ -13,8 +13,9 @@
 /// projectInside therefore only accepts steps that raise f (the Newton step, halved
 /// until f rises), so the point ends at the highest f met on its path: f > 0 whenever the
 /// path reaches the muscle, even where the muscle is thinner than the aim. Points the
-/// ascent cannot bring inside (no slope, or too far) are placed from their fibre
-/// neighbours by placeBetweenInsideNeighbours.
+/// ascent leaves outside climb on by climbByPatternSearch; those it cannot bring inside
+/// either (no slope, or too far) are placed from their fibre neighbours by
+/// placeBetweenInsideNeighbours.
 #include "rbf/implicit_field.h"
 
 #include <Eigen/Core>
@@ -83,6 +84,18 @@ ProjectionResult projectInside(const ImplicitField& field, const ProjectionSetti
 double placeBetweenInsideNeighbours(const ImplicitField& field, const ProjectionSettings& settings,
                                     const Eigen::Vector3d& a_mm, const Eigen::Vector3d& b_mm, double t,
                                     Eigen::Vector3d& p_mm, int samples = 20);
+
+/// Fallback for a point p that projectInside leaves outside (f(p) ≤ 0): the ascent stopped at
+/// a local maximum of f along ∇f, a saddle between two parts of the muscle or where it is
+/// thinner than the steps resolve. A pattern search climbs on: of the 26 points at the step
+/// length from p (towards the faces, edges and corners of a cube), p moves to the highest if
+/// it raises f, else the step halves; the step starts at max_step_mm, and the caps are the
+/// ascent's (max_steps moves, max_halvings halvings). f only rises, so p climbs the nearest
+/// slope: a point whose f falls just below 0 moves by about a step, not to another part of the
+/// muscle. Once f > 0, projectInside goes on. Returns f at the final point; when the search
+/// finds no f > 0, p is unchanged and the result is f(p) ≤ 0.
+/// @throws std::invalid_argument on bad settings.
+double climbByPatternSearch(const ImplicitField& field, const ProjectionSettings& settings, Eigen::Vector3d& p_mm);
 
 /// The point of the segment from `from_mm` to `to_mm` just before the segment first leaves
 /// {f ≥ margin}: `to_mm` when it never does, `from_mm` when it starts outside. The segment is

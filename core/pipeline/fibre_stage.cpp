@@ -75,7 +75,19 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
   });
   const int projected = static_cast<int>((steps_.array() > 0).count());
   const double end_offset = count > 0 ? moves_mm_.maxCoeff() : 0.0;
-  // 2. Interior points still outside: placed from the nearest inside points of their fibre.
+  // 2. Interior points still outside: they climb on by a pattern search, else are placed from
+  // the nearest inside points of their fibre. The whole field, not a point's rest kernel list:
+  // the list reaches about one kernel radius from the point's rest place, and the neighbours
+  // are up to a segment away (19 mm on the psoas), where the list can miss the kernels that
+  // hold them inside. Rare, so cheap.
+  const MuscleShape whole(state, nullptr, 0, BoneContact::kCut);
+  for (Eigen::Index first = 0; first < points.cols(); first += per)
+    for (int j = 1; j < segments; ++j) {
+      if (values_[first + j] > 0) continue;
+      Eigen::Vector3d p = points.col(first + j);
+      values_[first + j] = climbByPatternSearch(whole, projection_, p);
+      points.col(first + j) = p;
+    }
   for (Eigen::Index first = 0; first < points.cols(); first += per)
     for (int j = 1; j < segments; ++j) {
       if (values_[first + j] > 0) continue;
@@ -84,13 +96,9 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
       while (b <= segments && !(values_[first + b] > 0)) ++b;
       if (a < 0 || b > segments) continue;
       const int c = static_cast<int>(first + j);
-      // The whole field, not this point's rest kernel list: the list reaches about one kernel
-      // radius from the point's rest place, and the neighbours are up to a segment away (19 mm on
-      // the psoas), where the list can miss the kernels that hold them inside. Rare, so cheap.
-      const MuscleShape shape(state, nullptr, 0, BoneContact::kCut);
-      if (!(shape.calcValue(points.col(first + a)) > 0.0) || !(shape.calcValue(points.col(first + b)) > 0.0)) continue;
+      if (!(whole.calcValue(points.col(first + a)) > 0.0) || !(whole.calcValue(points.col(first + b)) > 0.0)) continue;
       Eigen::Vector3d p = points.col(c);
-      values_[c] = placeBetweenInsideNeighbours(shape, projection_, points.col(first + a), points.col(first + b),
+      values_[c] = placeBetweenInsideNeighbours(whole, projection_, points.col(first + a), points.col(first + b),
                                                 static_cast<double>(j - a) / (b - a), p);
       points.col(c) = p;
     }

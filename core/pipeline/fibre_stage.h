@@ -12,14 +12,16 @@
 namespace rbfmuscle {
 
 /// Carries the rest fibres by the tissue map (their ends and their attachments on the areas
-/// rigid with the origin and insertion bones; the tendons between count in the lengths). Where the muscle is stretched, its fibres are taut: each interior point
-/// inside the muscle moves towards its place in the taut map (tissue_lattice.h, step 4, the
-/// chords between the bones instead of arcs about their joint) until it would leave the muscle
-/// min(f, s), so a taut fibre straightens within the muscle and lies on a bone it meets. Then
-/// every point below the margin is pushed back inside by a monotone ascent
-/// (fibre_projection.h): where the muscle lies on a bone, a fibre point the map carried into
-/// the bone comes out along the bone's surface, so the fibres slide over the bone rather than
-/// follow the map into it. Reports the lengths.
+/// rigid with the origin and insertion bones; the tendons between count in the lengths).
+/// Where the muscle is stretched, its fibres are taut: each interior point inside the muscle
+/// moves towards its place in the taut map (tissue_lattice.h, step 4, the chords between the
+/// bones instead of arcs about their joint) until it would leave the muscle min(f, s), so a
+/// taut fibre straightens within the muscle and lies on a bone it meets. Then every point below
+/// the margin is pushed back inside by a monotone ascent (fibre_projection.h): where the muscle
+/// lies on a bone, a fibre point the map carried into the bone comes out along the bone's
+/// surface, so the fibres slide over the bone rather than follow the map into it. An interior
+/// point the ascent leaves outside climbs on by a pattern search, else is placed between the
+/// nearest inside points of its fibre. Reports the lengths.
 class FibreStage final : public FrameStage {
  public:
   /// @param rest the rest fibres (M, mm)  @param rest_field the rest field (point lists)

@@ -1,5 +1,5 @@
 // SPDX-License-Identifier: Apache-2.0
-/// projectInside and placeBetweenInsideNeighbours on small analytic fields: a thin rod
+/// projectInside, placeBetweenInsideNeighbours and climbByPatternSearch on small analytic fields: a thin rod
 /// thinner than one projection step (max f < margin), a thick rod, the flat field far
 /// outside, and an arc whose chord leaves the muscle.
 #include "fibres/fibre_projection.h"
@@ -206,6 +206,35 @@ TEST(AdvanceInside, StopsWhereTheSegmentFirstLeavesTheMuscle) {
   EXPECT_LT((a - b).norm(), 0.01);
 }
 
+TEST(ClimbByPatternSearch, APointJustOutsideClimbsIntoTheNearerPartByAboutAStep) {
+  const TwoBalls balls;  // no gradient: projectInside cannot move a point outside
+  const ProjectionSettings settings;  // steps of 1 mm
+  // Just outside the first ball, facing the second one 5 mm beyond the gap.
+  Eigen::Vector3d p(10.1, 0, 0);
+  Eigen::Vector3d stuck = p;
+  ASSERT_EQ(projectInside(balls, settings, stuck).stop, ProjectionStop::kNoAscent);
+  double f = climbByPatternSearch(balls, settings, p);
+  EXPECT_GT(f, 0.0);
+  EXPECT_TRUE(p.isApprox(Eigen::Vector3d(9.1, 0, 0), 1e-12)) << p.transpose();
+  // Midway in the gap (the saddle, f = −2.5): into one ball, by the fewest steps that reach f > 0.
+  p = Eigen::Vector3d(12.5, 0, 0);
+  f = climbByPatternSearch(balls, settings, p);
+  EXPECT_GT(f, 0.0);
+  EXPECT_NEAR(std::min(p.norm(), (p - Eigen::Vector3d(25, 0, 0)).norm()), 9.5, 1e-12);
+}
+
+TEST(ClimbByPatternSearch, WithoutSlopeThePointStaysAndItsValueSaysSo) {
+  const GaussianField rod = makeRod(3.0);
+  Eigen::Vector3d p(0, 50, 0);  // f = offset −1 all around
+  EXPECT_DOUBLE_EQ(climbByPatternSearch(rod, ProjectionSettings{}, p), -1.0);
+  EXPECT_EQ(p, Eigen::Vector3d(0, 50, 0));
+  // Too far for the step cap: 30 steps of 1 mm cannot climb 40 mm to the first ball.
+  const TwoBalls balls;
+  p = Eigen::Vector3d(-50, 0, 0);
+  EXPECT_DOUBLE_EQ(climbByPatternSearch(balls, ProjectionSettings{}, p), -40.0);
+  EXPECT_EQ(p, Eigen::Vector3d(-50, 0, 0));
+}
+
 TEST(FibreProjection, BadInputIsRefused) {
   const GaussianField rod = makeRod(3.0);
   Eigen::Vector3d p(0, 0, 0);
@@ -216,6 +245,7 @@ TEST(FibreProjection, BadInputIsRefused) {
   EXPECT_THROW(placeBetweenInsideNeighbours(rod, ProjectionSettings{}, in, out, 0.5, p), std::invalid_argument);
   EXPECT_THROW(placeBetweenInsideNeighbours(rod, ProjectionSettings{}, in, in, 1.0, p), std::invalid_argument);
   EXPECT_THROW(placeBetweenInsideNeighbours(rod, ProjectionSettings{}, in, in, 0.5, p, 0), std::invalid_argument);
+  EXPECT_THROW(climbByPatternSearch(rod, bad, p), std::invalid_argument);
 }
 
 }  // namespace
