@@ -41,17 +41,17 @@
 ///     fibres fill the cross-section instead of bundling along the shortest routes;
 ///     then projectInside (fibre_projection.h). End points stay where they climbed to;
 ///  6. each fibre's shape is resampled to S equal arc-length segments, its new interior
-///     points projected inside;
-///  7. each fibre is attached to its areas: its tendons run from its first and last point to the
-///     nearest point of the origin and the insertion region, so the fibre runs from area to
-///     area. The ends above lie inside the muscle, a median 7–9 mm from their areas in the hip
-///     scenes (the deepest nodes near the area; the segmented muscles stop 1–10 mm short of
-///     the measured areas); the tendons span that, move rigidly with their bones and count in
-///     the fibre's length. The ends' distance to the area is 0 by construction. The shape does not depend on S: relaxed at S itself, the
+///     points projected inside. The shape does not depend on S: relaxed at S itself, the
 ///     grid path's zigzags stayed in fine fibres (20 rounds smooth over about 3 segments), and
 ///     the gluteus maximus's rest fibres were 19 % longer at S = 60 than at S = 15, its
 ///     fibre length ratio at 80° of flexion 1.29 against 1.43, and the iliacus's flexion
-///     moment arm at 80° turned negative.
+///     moment arm at 80° turned negative;
+///  7. each fibre is attached to its areas: its tendons run from its first and last point to
+///     the nearest point of the origin and the insertion region, so the fibre runs from area
+///     to area. The ends above lie inside the muscle, a median 7–9 mm from their areas in the
+///     hip scenes (the deepest nodes near an area, and the segmented muscles stop 1–10 mm
+///     short of the measured areas); the tendons span that, move rigidly with their bones and
+///     count in the fibre's length.
 /// The dissected fibre directions are not used to route the fibres; they can be
 /// compared with the result (see the tests).
 #include "fibres/fibre_projection.h"
