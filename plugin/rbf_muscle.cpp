@@ -67,19 +67,6 @@ std::vector<BoneAtRest> findBonesAtRest(const Skeleton& skeleton, const InitCont
   return bones;
 }
 
-/// The columns of the areas, one matrix (3×K).
-Eigen::Matrix3Xd joinAreas(const std::vector<AttachmentArea>& areas) {
-  Eigen::Index count = 0;
-  for (const AttachmentArea& area : areas) count += area.points_mm.cols();
-  Eigen::Matrix3Xd points(3, count);
-  Eigen::Index at = 0;
-  for (const AttachmentArea& area : areas) {
-    points.middleCols(at, area.points_mm.cols()) = area.points_mm;
-    at += area.points_mm.cols();
-  }
-  return points;
-}
-
 /// Each point of an OpenSim muscle path at rest, in M (3×K).
 Eigen::Matrix3Xd placeAtRest_M(const MusclePath& path, const Skeleton& skeleton, const Eigen::Vector3d& offset) {
   Eigen::Matrix3Xd points(3, static_cast<Eigen::Index>(path.points.size()));

@@ -254,4 +254,16 @@ std::vector<AttachmentArea> readAttachmentAreas(const std::string& json_path,
   return areas;
 }
 
+Eigen::Matrix3Xd joinAreas(const std::vector<AttachmentArea>& areas) {
+  Eigen::Index count = 0;
+  for (const AttachmentArea& area : areas) count += area.points_mm.cols();
+  Eigen::Matrix3Xd points(3, count);
+  Eigen::Index at = 0;
+  for (const AttachmentArea& area : areas) {
+    points.middleCols(at, area.points_mm.cols()) = area.points_mm;
+    at += area.points_mm.cols();
+  }
+  return points;
+}
+
 }  // namespace rbfmuscle

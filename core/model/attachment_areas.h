@@ -76,4 +76,7 @@ std::vector<AttachmentArea> readAttachmentAreas(const std::string& json_path,
 std::vector<AttachmentArea> parseAttachmentAreaSpec(const std::string& spec,
                                                     const std::string& base_directory);
 
+/// The points of `areas`, in order, as one matrix (3×K, the areas' frame and unit).
+Eigen::Matrix3Xd joinAreas(const std::vector<AttachmentArea>& areas);
+
 }  // namespace rbfmuscle

@@ -194,11 +194,7 @@ std::array<Eigen::Matrix3Xd, 2> readAreas(const std::string& scene, const std::s
     for (const PropertySpec& property : component.properties)
       for (int end = 0; end < 2; ++end)
         if (property.name == (end == 0 ? "origin_area" : "insertion_area"))
-          for (const AttachmentArea& area : parseAttachmentAreaSpec(property.text, document.directory)) {
-            Eigen::Matrix3Xd& all = areas[static_cast<size_t>(end)];
-            all.conservativeResize(3, all.cols() + area.points_mm.cols());
-            all.rightCols(area.points_mm.cols()) = area.points_mm;
-          }
+          areas[static_cast<size_t>(end)] = joinAreas(parseAttachmentAreaSpec(property.text, document.directory));
   }
   EXPECT_GT(areas[0].cols(), 0) << muscle << " has no origin area in " << scene;
   EXPECT_GT(areas[1].cols(), 0) << muscle << " has no insertion area in " << scene;
