@@ -237,15 +237,16 @@ void checkTree(const std::string& urdf_path, const urdf::ModelInterface& model) 
                                             "' (its joints form a loop apart from the tree, or it has no parent joint)"));
 }
 
-/// Refuses links that are their own ancestors through joints of one parent each, as urdfdom
-/// reads them (each <joint>'s first <parent> and <child>). urdfdom links such a loop by
-/// shared_ptr before it looks for the root, finds none, and drops the model with the loop still
-/// holding itself (a leak the fuzzer found); so the loop is refused before urdfdom reads the text.
-/// A link with several parent joints ends the search: checkTree names them.
+/// Refuses joints that close a loop of links, as urdfdom reads them (each <joint>'s first
+/// <parent> and <child>). urdfdom links every joint's child into its parent by shared_ptr before
+/// it checks the tree, so when it then drops the model a loop still holds itself (a leak the
+/// fuzzer found: two links that are each other's parent, and a joint whose parent is its own
+/// child beside a link with two parents). So every loop, through any links, is refused before
+/// urdfdom reads the text: a depth-first walk from parent to child meets a link on its own path.
 void checkNoLoopOfJoints(const std::string& urdf_path, const tinyxml2::XMLDocument& xml) {
   const tinyxml2::XMLElement* robot = xml.FirstChildElement("robot");
   if (!robot) return;  // urdfdom says what is missing
-  std::map<std::string, std::vector<std::pair<std::string, std::string>>> parents;  // link → (joint, parent link)
+  std::map<std::string, std::vector<std::pair<std::string, std::string>>> children;  // link → (joint, child link)
   for (const tinyxml2::XMLElement* joint = robot->FirstChildElement("joint"); joint;
        joint = joint->NextSiblingElement("joint")) {
     const tinyxml2::XMLElement* parent = joint->FirstChildElement("parent");
@@ -253,33 +254,45 @@ void checkNoLoopOfJoints(const std::string& urdf_path, const tinyxml2::XMLDocume
     const char* parent_link = parent ? parent->Attribute("link") : nullptr;
     const char* child_link = child ? child->Attribute("link") : nullptr;
     const char* name = joint->Attribute("name");
-    if (parent_link && child_link) parents[child_link].emplace_back(name ? name : "", parent_link);
+    if (parent_link && child_link) children[parent_link].emplace_back(name ? name : "", child_link);
   }
-  std::map<std::string, int> walk_of;  // each link is walked through once, by the first walk that meets it
-  int walk = 0;
-  for (const auto& start : parents) {
-    ++walk;
-    std::vector<std::string> links, joints;
-    for (std::string link = start.first;;) {
-      const auto seen = walk_of.find(link);
-      if (seen != walk_of.end()) {
-        if (seen->second != walk) break;  // an earlier walk went on from here
-        const size_t first = static_cast<size_t>(std::find(links.begin(), links.end(), link) - links.begin());
+  enum class Walk { kOnPath, kDone };
+  std::map<std::string, Walk> walked;
+  struct Step {
+    std::string link;
+    size_t next_child = 0;
+  };
+  for (const auto& root : children) {
+    if (walked.count(root.first)) continue;
+    std::vector<Step> path{{root.first}};
+    std::vector<std::string> joints;  // joints[i] leads from path[i] to path[i + 1]
+    walked[root.first] = Walk::kOnPath;
+    while (!path.empty()) {
+      const auto below = children.find(path.back().link);
+      if (below == children.end() || path.back().next_child == below->second.size()) {
+        walked[path.back().link] = Walk::kDone;
+        path.pop_back();
+        if (!joints.empty()) joints.pop_back();
+        continue;
+      }
+      const auto [joint, child] = below->second[path.back().next_child++];
+      const auto seen = walked.find(child);
+      if (seen == walked.end()) {
+        walked[child] = Walk::kOnPath;
+        joints.push_back(joint);
+        path.push_back({child});
+      } else if (seen->second == Walk::kOnPath) {
+        size_t first = 0;
+        while (path[first].link != child) ++first;
         std::string loop_joints, loop_links;
-        for (size_t i = first; i < joints.size(); ++i) {
-          loop_joints += (i > first ? ", '" : "'") + joints[i] + "'";
-          loop_links += "'" + links[i] + "' → ";
+        for (size_t i = first; i < path.size(); ++i) {
+          loop_joints += (i > first ? ", '" : "'") + (i + 1 < path.size() ? joints[i] : joint) + "'";
+          loop_links += "'" + path[i].link + "' → ";
         }
         throw ModelError(where(urdf_path, "joints " + loop_joints + " form a closed loop of links (" + loop_links + "'" +
-                                              link + "'); the links must form a tree (a closed kinematic loop is not "
+                                              child + "'); the links must form a tree (a closed kinematic loop is not "
                                               "supported)"));
       }
-      walk_of[link] = walk;
-      const auto up = parents.find(link);
-      if (up == parents.end() || up->second.size() != 1) break;  // a root, or several parent joints
-      links.push_back(link);
-      joints.push_back(up->second[0].first);
-      link = up->second[0].second;
     }
   }
 }

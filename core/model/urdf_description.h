@@ -62,7 +62,8 @@ inline constexpr std::uintmax_t kMaxUrdfFileBytes = 64ull << 20;
 /// Reads and checks a URDF file. Lengths m → mm; mesh paths resolved relative
 /// to the URDF file's directory.
 /// @throws ModelError naming the file for a missing or unparsable file or one that is not a
-///   regular file, a link with two or more parent joints (naming the link and the joints), a
+///   regular file, joints that close a loop of links (naming the joints and the links), a link
+///   with two or more parent joints (naming the link and the joints), a
 ///   link not connected to the root, a joint of unsupported type, a zero or non-finite axis,
 ///   a non-finite or implausible origin, mass or inertia, a mesh scale outside the bounds
 ///   above, or a mesh that does not exist.

@@ -5,7 +5,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-
 #include <cmath>
 #include <fstream>
 #include <iterator>
@@ -293,16 +292,15 @@ TEST(SkeletonErrors, PackageUriIsRejectedWithAdvice) {
 const char* const kRevoluteLimit = R"(<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>)";
 
 TEST(SkeletonErrors, UrdfWithAJointCycleIsRefusedNamingTheLinks) {
-  // base → a → b → a: urdfdom accepts it (the root is base) and following the links never
-  // ended (a stack overflow, signal 11).
+  // base → a → b → a: urdfdom accepts it (the root is base), following the links never ends
+  // (a stack overflow), and a has two parents; the loop is refused before urdfdom reads it.
   TempFile f("cycle.urdf");
   f.write(std::string(R"(<robot name="cycle"><link name="base"/><link name="a"/><link name="b"/>
     <joint name="j_base_a" type="revolute"><parent link="base"/><child link="a"/>)") + kRevoluteLimit + R"(</joint>
     <joint name="j_a_b" type="revolute"><parent link="a"/><child link="b"/>)" + kRevoluteLimit + R"(</joint>
     <joint name="j_b_a" type="revolute"><parent link="b"/><child link="a"/>)" + kRevoluteLimit + R"(</joint></robot>)");
   expectModelError([&] { Skeleton::fromUrdf(f.path()); },
-                   {f.path(), "link 'a' has 2 parent joints", "'j_base_a' from link 'base'", "'j_b_a' from link 'b'",
-                    "must form a tree"});
+                   {f.path(), "'j_a_b', 'j_b_a'", "closed loop of links ('a' → 'b' → 'a')", "must form a tree"});
 }
 
 TEST(SkeletonErrors, UrdfLoopApartFromTheRootIsRefusedNamingTheLink) {
@@ -330,6 +328,17 @@ TEST(SkeletonErrors, UrdfWhoseLinksAllHangInALoopIsRefusedNamingTheJoints) {
     <joint name="j_b_a" type="revolute"><parent link="b"/><child link="a"/>)" + kRevoluteLimit + R"(</joint></robot>)");
   expectModelError([&] { Skeleton::fromUrdf(f.path()); },
                    {f.path(), "'j_a_b'", "'j_b_a'", "form a closed loop of links", "must form a tree"});
+}
+
+TEST(SkeletonErrors, UrdfJointWhoseParentIsItsChildIsRefusedBesideALinkWithTwoParents) {
+  // j_a_a hangs a on itself; a also hangs on the missing b. urdfdom links a into a before it
+  // finds b missing (a leak under the sanitizers, found by the fuzzer): refused before it reads.
+  TempFile f("self_loop.urdf");
+  f.write(std::string(R"(<robot name="loop"><link name="a"/>
+    <joint name="j_a_a" type="revolute"><parent link="a"/><child link="a"/>)") + kRevoluteLimit + R"(</joint>
+    <joint name="j_b_a" type="revolute"><parent link="b"/><child link="a"/>)" + kRevoluteLimit + R"(</joint></robot>)");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); },
+                   {f.path(), "'j_a_a'", "closed loop of links ('a' → 'a')", "must form a tree"});
 }
 
 TEST(SkeletonErrors, UrdfMeshScaleOfZeroIsRefusedNamingTheLinkAndMesh) {
