@@ -141,6 +141,7 @@ void RBFMuscle::initialize(const InitContext& context) {
   contact_bodies_.clear();
   if (contacts.get())
     for (const BoneAtRest& bone : bones) {
+      if (bone.body == bone_bodies_[0]) muscle.origin_bones.push_back(static_cast<int>(muscle.bones.size()));
       contact_bodies_.push_back(bone.body);
       muscle.bones.push_back(ClearanceBone{skeleton.getBodyNames()[static_cast<size_t>(bone.body)], bone.grid});
       muscle.rest_X_MB.push_back(to_M * skeleton.getBodyTransform(bone.body));
@@ -151,6 +152,7 @@ void RBFMuscle::initialize(const InitContext& context) {
   settings.quadrature_points = volume_settings.quadrature_points.get();
   settings.descent.max_iterations = descent_settings.iterations.get();
   settings.fibres = fibre_settings.count.get();
+  settings.lift_off = lift_off.get();
   settings.fibre_segments = fibre_settings.segments.get();
   settings.volume.max_correction = volume_settings.max_correction.get();
   try {
@@ -159,6 +161,11 @@ void RBFMuscle::initialize(const InitContext& context) {
     throw FrameworkError(e.what());
   }
 
+  if (const double pulley = pipeline_->getPulleyWeight(); std::isfinite(pulley))
+    std::fprintf(stderr, "%s: lifts off the joint when shortened, each fibre held up to blend weight %.3f (%s)\n",
+                 getName().c_str(), pulley,
+                 muscle.origin_bones.empty() ? "no contact bone on the origin body: held at the fibres' origin ends"
+                                             : "the median where the fibres leave the origin body's bones at rest");
   if (const RestFibres* fibres = pipeline_->getRestFibres(); fibres && fibres->grid_refinements > 0)
     std::fprintf(stderr,
                  "%s: fibres routed on an interior grid of %.2f mm, refined %d times: the first split a part of "

@@ -64,6 +64,10 @@ class RBFMuscle final : public Component {
                               "about the centre of the joint between the two bodies, found from the skeleton: no fold "
                               "while the joint turns less than about 0.8 of the angle between the areas seen from it, "
                               "printed at start)"};
+  Property<bool> lift_off{this, "lift_off", true,
+                          "a shortened muscle lifts off its joint as a taut string lifts off a drum, each fibre "
+                          "held where it leaves the origin body's bones at rest (blend 'joint_angle' and fibres only; "
+                          "false: the tissue keeps its distance from the joint)"};
   Property<bool> contacts{this, "contacts", true,
                           "keep the muscle out of every body with a mesh (its collision meshes, else its visual ones; "
                           "false: bones are ignored)"};

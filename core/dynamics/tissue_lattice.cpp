@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "dynamics/tissue_lattice.h"
 
+#include "dynamics/joint_lift_off.h"
 #include "dynamics/thickness_axes.h"
 #include "geometry/mesh_distance.h"
 
@@ -20,6 +21,13 @@ Eigen::Vector3i cellOf(const Eigen::Vector3d& p, const Eigen::Vector3d& origin, 
   return ((p - origin) / h).array().floor().cast<int>();
 }
 
+/// Trilinear weight of a cell's corner (at +x if corner&1, +y if corner&2, +z if corner&4) at
+/// local coordinates u ∈ [0, 1]³.
+double calcCornerWeight(int corner, const Eigen::Vector3d& u) {
+  return ((corner & 1) ? u.x() : 1.0 - u.x()) * ((corner & 2) ? u.y() : 1.0 - u.y()) *
+         ((corner & 4) ? u.z() : 1.0 - u.z());
+}
+
 }  // namespace
 
 double calcOnBoneWeight(double clearance_mm, double half_thickness_mm) {
@@ -37,10 +45,10 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
     throw std::invalid_argument("TissueLattice: the spacing must be > 0 and the origin finite");
   if (!(settings.max_thinning >= 1.0) || settings.smoothing_passes < 0 || !(settings.smoothing_cell_mm >= 0.0) ||
       !std::isfinite(settings.smoothing_cell_mm) || !(settings.blend_length_mm > 0.0) ||
-      !(settings.taut_stretch > 0.0) || !std::isfinite(settings.taut_stretch))
+      !(settings.taut_stretch > 0.0) || !std::isfinite(settings.taut_stretch) || settings.lift_passes < 0)
     throw std::invalid_argument(
         "TissueLattice: need max_thinning >= 1, smoothing_passes >= 0, smoothing_cell_mm >= 0, blend_length_mm > 0, "
-        "taut_stretch > 0");
+        "taut_stretch > 0, lift_passes >= 0");
   if (cover_mm.cols() == 0 || !cover_mm.allFinite())
     throw std::invalid_argument("TissueLattice: the points to cover must be finite and not empty");
   // Lattice box: the cover points' cells and their neighbours, corners included.
@@ -99,8 +107,7 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
         const double on_bone_far = calcOnBoneWeight(rest_clearance->calcValue(mid + h * axis), h);
         anchor_vectors_mm_.col(n) += h * (on_bone_far - on_bone) * axis;
       }
-    const double scale = settings_.smoothing_cell_mm > 0.0 ? settings_.smoothing_cell_mm / cell_mm_ : 1.0;
-    const int passes = static_cast<int>(std::lround(settings_.smoothing_passes * scale * scale));
+    const int passes = scalePasses(settings_.smoothing_passes);
     smooth(mid_vectors_mm, passes);
     smooth(anchor_vectors_mm_, passes);
     // k = −div v: 1 where the mid-set is a surface (v = −o n), 2 where it is a line.
@@ -116,6 +123,99 @@ TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Atta
     for (int n = 0; n < k; ++n) weight_gradients_.col(n) = differentiate(weight_1, n).row(0).transpose();
   }
   update(std::vector<Eigen::Isometry3d>(static_cast<size_t>(num_bones_), Eigen::Isometry3d::Identity()));
+}
+
+int TissueLattice::scalePasses(int passes) const {
+  const double scale = settings_.smoothing_cell_mm > 0.0 ? settings_.smoothing_cell_mm / cell_mm_ : 1.0;
+  return static_cast<int>(std::lround(passes * scale * scale));
+}
+
+double TissueLattice::setLiftOffGuides(const Eigen::Matrix3Xd& fibre_points_mm, int points_per_fibre,
+                                       const std::vector<bool>& on_origin_bone) {
+  if (num_bones_ != 2 || !settings_.joint_centre_mm)
+    throw std::invalid_argument("TissueLattice::setLiftOffGuides: the lift-off needs two bones and a joint centre");
+  const Eigen::Index total = fibre_points_mm.cols();
+  if (points_per_fibre < 2 || total == 0 || total % points_per_fibre != 0 ||
+      static_cast<Eigen::Index>(on_origin_bone.size()) != total)
+    throw std::invalid_argument("TissueLattice::setLiftOffGuides: need whole fibres of at least 2 points and one "
+                                "on-bone flag per point");
+  const int fibres = static_cast<int>(total / points_per_fibre);
+  std::vector<int> ties(static_cast<size_t>(total), -1);
+  for (int f = 0; f < fibres; ++f) {
+    ties[static_cast<size_t>(f * points_per_fibre)] = 0;
+    ties[static_cast<size_t>((f + 1) * points_per_fibre - 1)] = 1;
+  }
+  LatticeBinding guides = bind(fibre_points_mm, ties);
+  // w₁ of each guide point, interpolated as the map carries it: 0 and 1 at the tied ends.
+  Eigen::VectorXd weight_1(total);
+  for (Eigen::Index j = 0; j < total; ++j) {
+    const size_t jj = static_cast<size_t>(j);
+    if (guides.rigid_bone[jj] >= 0) {
+      weight_1[j] = guides.rigid_bone[jj];
+      continue;
+    }
+    weight_1[j] = 0.0;
+    for (int corner = 0; corner < 8; ++corner)
+      weight_1[j] += calcCornerWeight(corner, guides.local.col(j)) *
+                     node_weights_(1, guides.corners[jj][static_cast<size_t>(corner)]);
+  }
+  // The pulley: the median, over the fibres lying on the origin bone, of w₁ at their last point on it.
+  std::vector<double> held;
+  for (int f = 0; f < fibres; ++f)
+    for (int j = (f + 1) * points_per_fibre - 1; j >= f * points_per_fibre; --j)
+      if (on_origin_bone[static_cast<size_t>(j)]) {
+        held.push_back(weight_1[j]);
+        break;
+      }
+  double pulley = 0.0;
+  if (!held.empty()) {
+    std::nth_element(held.begin(), held.begin() + static_cast<long>(held.size() / 2), held.end());
+    pulley = held[held.size() / 2];
+  }
+  string_starts_.assign(static_cast<size_t>(fibres), 0);
+  for (int f = 0; f < fibres; ++f)
+    for (int j = 0; j < points_per_fibre; ++j)
+      if (weight_1[f * points_per_fibre + j] <= pulley) string_starts_[static_cast<size_t>(f)] = j;
+  guides_ = std::move(guides);
+  guide_points_per_fibre_ = points_per_fibre;
+  update(motions_);
+  return pulley;
+}
+
+void TissueLattice::liftOff() {
+  const Eigen::AngleAxisd turn(motions_[1].linear() * motions_[0].linear().transpose());
+  if (!(turn.angle() > 0.0)) return;
+  const Eigen::Vector3d centre = motions_[0] * *settings_.joint_centre_mm;
+  Eigen::Matrix3Xd now;
+  carryPoints(guides_, nodes_mm_, now, nullptr);
+  const Eigen::Matrix3Xd rest = motions_[0] * guides_.rest_mm;  // the rest fibres, seen from the origin bone
+  const int k = countNodes(), p = guide_points_per_fibre_;
+  Eigen::Matrix3Xd rises = Eigen::Matrix3Xd::Zero(3, k);
+  Eigen::VectorXd shares = Eigen::VectorXd::Zero(k);
+  for (size_t f = 0; f < string_starts_.size(); ++f) {
+    const int first = static_cast<int>(f) * p + string_starts_[f], count = (static_cast<int>(f) + 1) * p - first;
+    const Eigen::Matrix3Xd string_rises =
+        calcLiftOffRisesSinceRest(now.middleCols(first, count), rest.middleCols(first, count), centre,
+                                  turn.axis().normalized(), cell_mm_);
+    for (int i = 0; i < count; ++i) {
+      const size_t j = static_cast<size_t>(first + i);
+      if (guides_.rigid_bone[j] >= 0) continue;
+      for (int corner = 0; corner < 8; ++corner) {
+        const double w = calcCornerWeight(corner, guides_.local.col(first + i));
+        const int node = guides_.corners[j][static_cast<size_t>(corner)];
+        rises.col(node) += w * string_rises.col(i);
+        shares[node] += w;
+      }
+    }
+  }
+  // Each node takes the mean rise of the guide points in its cells, then the rises are smoothed,
+  // so they fade towards the muscle's edge and its thin parts, where few guides pass.
+  for (int n = 0; n < k; ++n)
+    if (shares[n] > 0.0) rises.col(n) /= shares[n];
+  smooth(rises, scalePasses(settings_.lift_passes));
+  rises *= lift_fraction_;
+  nodes_mm_ += rises;
+  lift_max_mm_ = rises.colwise().norm().maxCoeff();
 }
 
 void TissueLattice::smooth(Eigen::Matrix3Xd& vectors, int passes) const {
@@ -199,8 +299,13 @@ void TissueLattice::update(const std::vector<Eigen::Isometry3d>& bone_motion_M) 
                              : settings_.max_thinning;  // a fold thickens as much as allowed
     nodes_mm_.col(n) -= (t - 1.0) * (d * anchor_vectors_mm_.col(n));
   }
-  // Step 4: the taut nodes, part of the way from the blend's arcs to its chords.
   stretch_ = rate_sum > 0.0 ? stretch_sum / rate_sum : 1.0;
+  // Step 5: a shortened muscle lifts off the joint.
+  const double shortening = std::clamp((1.0 - stretch_) / settings_.taut_stretch, 0.0, 1.0);
+  lift_fraction_ = guides_.size() > 0 ? shortening * shortening * (3.0 - 2.0 * shortening) : 0.0;
+  lift_max_mm_ = 0.0;
+  if (lift_fraction_ > 0.0) liftOff();
+  // Step 4: the taut nodes, part of the way from the blend's arcs to its chords.
   const double u = std::clamp((stretch_ - 1.0) / settings_.taut_stretch, 0.0, 1.0);
   taut_fraction_ = u * u * (3.0 - 2.0 * u);
   taut_nodes_mm_.resize(3, 0);

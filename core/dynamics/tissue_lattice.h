@@ -35,6 +35,19 @@
 ///    the chords between their places on the two bones. A shortened muscle (λ = 0) keeps the
 ///    map. The volume follows the map; only the fibres move towards the taut nodes
 ///    (fibre_stage.h), as far as the muscle allows.
+/// 5. Lift-off (two bones, a joint centre, guides set): a shortened muscle is taut too, and
+///    lifts off the joint as a string lifts off a drum (joint_lift_off.h). Its lift fraction is
+///    the mirror of step 4's, λ = smoothstep((1 − stretch) / taut_stretch). The guides are the
+///    rest fibres carried by the map. Each one is held where it leaves its origin bone at rest,
+///    as fascia binds the iliacus to its fossa and the inguinal ligament the psoas to the brim:
+///    its string runs from its last point whose blend weight w₁ is at most the pulley weight
+///    (the median, over the fibres lying on the origin bone, of w₁ at their last point on it)
+///    to its insertion, through the points as the map carries them. Each string point rises by
+///    s − s₀ about the joint's turn axis; each node takes the mean rise
+///    of the guide points in its cells, the rises are smoothed by lift_passes Laplacian passes
+///    (so they fade at the muscle's edge and over its thin parts alike), and every node rises
+///    by λ times its own, after the thinning. The volume, the surface and the fibres all move
+///    with the risen nodes.
 #include "dynamics/attachment.h"
 #include "dynamics/motion_prediction.h"
 
@@ -75,6 +88,9 @@ struct LatticeSettings {
   /// Stretch beyond rest over which the taut fraction rises from 0 to 1 (step 4), > 0: 10 %;
   /// 5 % or 20 % change the gluteus maximus's flexion moment arms by at most 1 mm (docs/moment_arms.md).
   double taut_stretch = 0.1;
+  /// Laplacian passes that spread the lift-off's rises over the lattice (step 5), at the cell of
+  /// smoothing_cell_mm like smoothing_passes, ≥ 0.
+  int lift_passes = 8;
 };
 
 /// How much a muscle surface point with rest bone clearance s (mm) lies on the bone, for a
@@ -118,6 +134,18 @@ class TissueLattice {
   /// λ of the last update (step 4), in [0, 1].
   double getTautFraction() const { return taut_fraction_; }
 
+  /// Sets the lift-off's guides (step 5): the rest fibres (3×F·P, M, P points each, the first
+  /// tied to bone 0 and the last to bone 1) and whether each point lies on the origin bone at
+  /// rest. Returns the pulley weight (0 when no fibre lies on the origin bone: each string then
+  /// runs from its fibre's origin end).
+  /// @throws std::invalid_argument without two bones and a joint centre, or for bad sizes.
+  double setLiftOffGuides(const Eigen::Matrix3Xd& fibre_points_mm, int points_per_fibre,
+                          const std::vector<bool>& on_origin_bone);
+  /// The lift fraction of the last update (step 5), in [0, 1]; 0 without guides.
+  double getLiftFraction() const { return lift_fraction_; }
+  /// The largest rise of a node in the last update (mm).
+  double getLiftMax() const { return lift_max_mm_; }
+
   /// Lattice coordinates → whether node (i, j, k) is active, and its index.
   int findNode(const Eigen::Vector3i& ijk) const;
   /// The active node within 1e-6 spacing of the rest point p, −1 when there is none.
@@ -146,6 +174,10 @@ class TissueLattice {
   Eigen::Matrix3d differentiate(const Eigen::Matrix3Xd& positions, int n) const;
   /// `passes` Laplacian passes over per-node vectors (each node halfway to its neighbours' mean).
   void smooth(Eigen::Matrix3Xd& vectors, int passes) const;
+  /// passes at the lattice's own cell for `passes` at settings_.smoothing_cell_mm.
+  int scalePasses(int passes) const;
+  /// Step 5: raises nodes_mm_ by the lift fraction times the guides' spread rises.
+  void liftOff();
 
   int num_bones_ = 0;
   LatticeSettings settings_;
@@ -166,6 +198,10 @@ class TissueLattice {
   Eigen::Matrix3Xd weight_gradients_;     ///< ∇w₁ per node (1/mm; step 4; empty unless B = 2)
   double stretch_ = 1.0, taut_fraction_ = 0.0;
   Eigen::Matrix3Xd taut_nodes_mm_;        ///< y + λ (linear blend − Φ) per node (empty when λ = 0)
+  LatticeBinding guides_;                 ///< step 5's rest fibres (empty: no lift-off)
+  int guide_points_per_fibre_ = 0;
+  std::vector<int> string_starts_;        ///< per guide fibre: its first string point
+  double lift_fraction_ = 0.0, lift_max_mm_ = 0.0;
 };
 
 }  // namespace rbfmuscle

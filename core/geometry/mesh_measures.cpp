@@ -75,6 +75,18 @@ std::vector<double> calcComponentVolumes(const TriangleMesh& mesh) {
   return volumes;
 }
 
+std::vector<double> calcComponentSizes(const TriangleMesh& mesh) {
+  int count = 0;
+  const std::vector<int> label = labelComponents(mesh, count);
+  std::vector<Eigen::AlignedBox3d> boxes(static_cast<std::size_t>(count));
+  for (int v = 0; v < mesh.countVertices(); ++v)
+    if (label[static_cast<std::size_t>(v)] >= 0) boxes[static_cast<std::size_t>(label[static_cast<std::size_t>(v)])].extend(mesh.vertices_mm.col(v));
+  std::vector<double> sizes;
+  for (const Eigen::AlignedBox3d& box : boxes) sizes.push_back(box.diagonal().norm());
+  std::sort(sizes.begin(), sizes.end(), [](double x, double y) { return x > y; });
+  return sizes;
+}
+
 void calcVertexNormals(const TriangleMesh& mesh, Eigen::Matrix3Xd& out) {
   out.setZero(3, mesh.vertices_mm.cols());
   for (int t = 0; t < mesh.countTriangles(); ++t) {

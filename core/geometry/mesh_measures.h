@@ -25,6 +25,10 @@ int countComponents(const TriangleMesh& mesh);
 /// a surface that came apart shows its crumbs here, a cavity as a negative volume.
 std::vector<double> calcComponentVolumes(const TriangleMesh& mesh);
 
+/// Bounding-box diagonal (mm) of each connected piece (as countComponents), largest first: how
+/// far across each piece is, so a check can leave out pieces below a mesh's resolution.
+std::vector<double> calcComponentSizes(const TriangleMesh& mesh);
+
 /// Area-weighted vertex normals: column v of `out` (3×V, resized) is Σ (b − a) × (c − a) over the
 /// triangles (a, b, c) at vertex v, unnormalised (length twice their area; 0 at a vertex no
 /// triangle uses), outward for a mesh wound outward.

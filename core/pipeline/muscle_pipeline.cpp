@@ -46,6 +46,20 @@ void putOntoSurface(const ImplicitField& shape, const SurfaceSettings& settings,
   }
 }
 
+/// Whether each rest point (M) lies within `reach_mm` of one of the origin's bones.
+std::vector<bool> findPointsOnBones(const MuscleDefinition& definition, const Eigen::Matrix3Xd& points_mm,
+                                    double reach_mm) {
+  std::vector<bool> on(static_cast<size_t>(points_mm.cols()), false);
+  for (int b : definition.origin_bones) {
+    const MeshDistance& bone = definition.bones.at(static_cast<size_t>(b)).grid->getMeshDistance();
+    const Eigen::Isometry3d X_BM = definition.rest_X_MB.at(static_cast<size_t>(b)).inverse();
+    for (Eigen::Index j = 0; j < points_mm.cols(); ++j)
+      if (bone.findSignedClosestPoint(X_BM * Eigen::Vector3d(points_mm.col(j))).signed_distance_mm < reach_mm)
+        on[static_cast<size_t>(j)] = true;
+  }
+  return on;
+}
+
 }  // namespace
 
 MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const PipelineSettings& settings) {
@@ -105,6 +119,10 @@ MusclePipeline::MusclePipeline(const MuscleDefinition& definition, const Pipelin
   lattice_ = std::make_shared<TissueLattice>(fit.getCentres(), definition.attachments, quadrature.box_mm.min(),
                                              quadrature.cell_mm, cover, &muscle_surface, state_->bones,
                                              lattice_settings);
+
+  if (settings.lift_off && fibres.count > 0 && lattice_settings.joint_centre_mm)
+    pulley_weight_ = lattice_->setLiftOffGuides(fibres.points_mm, fibres.segments + 1,
+                                                findPointsOnBones(definition, fibres.points_mm, quadrature.cell_mm));
 
   NeighbourLists quadrature_lists = findMaterialNeighbours(rest, quadrature.points_mm);
   stages_.resize(kSlots);

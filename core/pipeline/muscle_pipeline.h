@@ -12,6 +12,7 @@
 #include "pipeline/surface_stage.h"
 #include "rbf/gaussian_field.h"
 
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -26,6 +27,7 @@ struct MuscleDefinition {
   Eigen::Matrix3Xd insertion_area_M;          ///< where fibres end (3×K points)
   std::vector<ClearanceBone> bones;           ///< contact bones (empty: none)
   std::vector<Eigen::Isometry3d> rest_X_MB;   ///< their poses at rest
+  std::vector<int> origin_bones;              ///< which of `bones` belong to the origin's body (the lift-off's pulley)
 };
 
 /// Every stage's settings. The defaults are the recommended settings for any muscle.
@@ -37,6 +39,9 @@ struct PipelineSettings {
   BalanceSettings volume;           ///< the volume step
   int fibres = 100;                 ///< fibres (0: none)
   int fibre_segments = 15;          ///< segments per fibre
+  /// Whether a shortened muscle lifts off its joint (tissue_lattice.h, step 5): with fibres and
+  /// a joint centre only.
+  bool lift_off = true;
   double surface_cell_mm = 2.0;     ///< grid cell of the rest surface that is tracked (mm)
   SurfaceSettings surface;          ///< its projection
 };
@@ -79,6 +84,9 @@ class MusclePipeline {
   const TriangleMesh& getRestSurface() const;
   /// Rest volume (mm³) of the muscle outside the bones.
   double getRestVolume() const { return rest_volume_mm3_; }
+  /// The blend weight w₁ beyond which the fibres' strings run when the muscle lifts off its
+  /// joint (tissue_lattice.h, step 5); NaN without the lift-off.
+  double getPulleyWeight() const { return pulley_weight_; }
 
  private:
   std::unique_ptr<MuscleState> state_;
@@ -88,6 +96,7 @@ class MusclePipeline {
   std::vector<size_t> slot_sizes_;  ///< figures in each slot's table
   double frame_ms_ = 0.0;
   double rest_volume_mm3_ = 0.0;
+  double pulley_weight_ = std::numeric_limits<double>::quiet_NaN();
   const class FibreStage* fibres_ = nullptr;
   const SurfaceStage* surface_ = nullptr;
 };

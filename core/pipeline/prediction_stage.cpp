@@ -47,7 +47,7 @@ void PredictionStage::run(MuscleState& state, const FrameInput& input) {
     }
   const Eigen::VectorXd& blend = lattice_->getBlendVolumeChanges();
   report_ = Report{static_cast<double>(state.field.countClampedFrames()), blend.minCoeff(), blend.maxCoeff(),
-                   state.bones ? overlap : kNaN};
+                   state.bones ? overlap : kNaN, lattice_->getLiftFraction(), lattice_->getLiftMax()};
 }
 
 }  // namespace rbfmuscle

@@ -32,6 +32,8 @@ class PredictionStage final : public FrameStage {
     double blend_volume_change_min = kNaN;  ///< smallest det DΦ of the bone blend
     double blend_volume_change_max = kNaN;  ///< largest det DΦ of the bone blend
     double bone_overlap_max_mm = kNaN; ///< deepest quadrature point inside a bone (mm)
+    double lift_fraction = kNaN;       ///< how far the shortened muscle lifts off its joint
+    double lift_max_mm = kNaN;         ///< largest rise of the tissue off the joint (mm)
   };
   static constexpr ReportEntry<Report> kReport[] = {
       {"clamped_frames", "1", "kernels whose frame F the stretch limits clamped (where the blend folds)",
@@ -43,6 +45,10 @@ class PredictionStage final : public FrameStage {
       {"bone_overlap_max_mm", "mm",
        "deepest quadrature point inside a bone: the part of the muscle the bone takes away",
        &Report::bone_overlap_max_mm},
+      {"lift_fraction", "1",
+       "how far the shortened muscle lifts off its joint towards its fibres' strings (0: not shortened, or no lift-off)",
+       &Report::lift_fraction},
+      {"lift_max_mm", "mm", "largest rise of the tissue off the joint", &Report::lift_max_mm},
   };
 
   void run(MuscleState& state, const FrameInput& input) override;

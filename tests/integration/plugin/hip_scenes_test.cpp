@@ -13,7 +13,7 @@
 /// of every muscle in one piece in every scene (the psoas's in the rotation because its mesh,
 /// segmented up to 3.5 mm inside the ilium, is moved out of it at rest: docs/design.md, Contacts
 /// by composition); the gluteus's tracked surface in one piece in every scene, and the
-/// iliacus's in adduction, rotation and gait. Where a muscle lies on a bone its tracked vertices
+/// iliacus's in adduction, rotation and gait (pieces at least the 2 mm cell across). Where a muscle lies on a bone its tracked vertices
 /// find no surface and their triangles are dropped, which cuts the tracked mesh of the iliacus and
 /// the psoas in flexion; the pieces of both are printed for every muscle. The main job's flexion
 /// (0→80° in 1° frames) runs again in 10° frames, and the gluteus flexes on to 120°, with the same
@@ -51,7 +51,8 @@ namespace {
 namespace fs = std::filesystem;
 const fs::path kHip = fs::path(RBFMUSCLE_SOURCE_DIR) / "models/hip";
 const std::vector<std::string> kMuscles = {"glmax_r", "iliacus_r", "psoas_r"};
-/// Grid cell of the pieces count (check_pieces_cell_mm): the rest surface's cell.
+/// Grid cell of the pieces count (check_pieces_cell_mm), and the least size of a tracked surface's
+/// piece: the rest surface's cell.
 constexpr double kPieceCellMm = 2.0;
 
 /// A bone for the checks: the exact distance, and a grid only to skip vertices far from it.
@@ -236,7 +237,11 @@ class SurfaceWatch {
     TriangleMesh surface;
     surface.vertices_mm = g.vertices_mm;
     surface.triangles = g.triangles;
-    const int pieces = countComponents(surface);  // of the surface the triangles make
+    // Pieces of the surface the triangles make, at least a cell of the tracked surface across: a
+    // speck smaller than that (a few vertices left among those that found no surface) is below
+    // the tracked mesh's resolution, as the volume's pieces are counted on a grid of that cell.
+    int pieces = 0;
+    for (double size_mm : calcComponentSizes(surface)) (size_mm >= kPieceCellMm ? pieces : specks) += 1;
     most_pieces = std::max(most_pieces, pieces);
     const Eigen::Isometry3d X_FG = femur_motion.inverse();
     for (Eigen::Index v = 0; v < g.vertices_mm.cols(); ++v) {
@@ -262,6 +267,7 @@ class SurfaceWatch {
 
   double worst_depth = 0.0, worst_jump = -1e9;
   int worst_depth_frame = 0, worst_jump_frame = 0, first_jump_frame = -1, most_pieces = 0;
+  int specks = 0;  ///< pieces less than a cell across, over all frames
 
  private:
   const SceneBones& bones_;
@@ -326,10 +332,11 @@ void checkScene(const std::string& scene, const std::string& motion_file, const 
     const int ratio = table.findColumn(muscle + ".fibre_length_ratio");
     std::printf("%s %s: deepest tracked vertex in a bone %.3f mm (frame %d); worst jump beyond the femur's move + 1 mm "
                 "%.3f mm (frame %d, first at %d); fibre length ratio at the last frame %.3f; most fibre points outside %.0f; most pieces of "
-                "the tracked surface %d; most pieces of the volume %d (largest stray volume %.0f mm³)\n",
+                "the tracked surface %d (specks under %.0f mm across, all frames: %d); most pieces of the volume %d "
+                "(largest stray volume %.0f mm³)\n",
                 scene.c_str(), muscle.c_str(), watch.worst_depth, watch.worst_depth_frame, watch.worst_jump,
                 watch.worst_jump_frame, watch.first_jump_frame, ratio >= 0 ? table.rows.back()[static_cast<size_t>(ratio)] : NAN,
-                most_outside, watch.most_pieces, most_volume_pieces, most_stray_mm3);
+                most_outside, watch.most_pieces, kPieceCellMm, watch.specks, most_volume_pieces, most_stray_mm3);
     EXPECT_LE(watch.worst_depth, 0.5) << muscle << " at frame " << watch.worst_depth_frame;
     if (checks.last_ratio_at_most.count(muscle)) {
       ASSERT_GE(ratio, 0);

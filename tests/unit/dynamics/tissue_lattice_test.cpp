@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 // TissueLattice: rigid motions stay rigid, frames are the map's gradient, and incompressibility
 // thins a stretched rod and keeps its volume.
+#include "dynamics/joint_lift_off.h"
 #include "dynamics/tissue_lattice.h"
 #include "dynamics_test_shapes.h"
 #include "geometry/mesh_distance.h"
@@ -273,6 +274,98 @@ TEST(TissueLattice, AStretchedMuscleIsTautAndTakesTheChordsAShortenedOneKeepsThe
   EXPECT_NEAR((on_arc.col(0) - joint).norm(), 30.0, 0.5);
   EXPECT_LT((taut.col(0) - joint).norm(), (on_arc.col(0) - joint).norm() - 0.5);
   EXPECT_GT((taut.col(0) - joint).norm(), 30.0 * std::cos(0.25) - 0.5);
+}
+
+/// Straight fibres filling the rod, a lattice cell apart: 7 × 5 of them, each of kRodFibrePoints
+/// points from x = −36 to 36 mm.
+constexpr int kRodFibres = 35, kRodFibrePoints = 37, kRodGuidePoints = kRodFibres * kRodFibrePoints;
+Eigen::Matrix3Xd makeRodFibres() {
+  Eigen::Matrix3Xd points(3, kRodGuidePoints);
+  int column = 0;
+  for (int y = -6; y <= 6; y += 2)
+    for (int z = -4; z <= 4; z += 2)
+      for (int j = 0; j < kRodFibrePoints; ++j) points.col(column++) = Eigen::Vector3d(-36.0 + 2.0 * j, y, z);
+  return points;
+}
+
+/// The rod's middle, carried by a lattice whose bones turn together by +0.5 rad about the joint below it.
+Eigen::Vector3d carryMiddleShortened(TissueLattice& lattice, const Eigen::Vector3d& joint) {
+  lattice.update({Eigen::Isometry3d::Identity(), test::makeRotationAbout(joint, Eigen::Vector3d::UnitZ(), 0.5)});
+  Eigen::Matrix3Xd middle;
+  lattice.carry(lattice.bind(Eigen::Matrix3Xd(Eigen::Vector3d(0, 0, 0))), middle);
+  return middle.col(0);
+}
+
+TEST(TissueLattice, AShortenedRodLiftsOffTheJointTowardsItsStrings) {
+  const Rod rod;
+  const Eigen::Vector3d joint(0, -30, 0);
+  LatticeSettings by_angle;
+  by_angle.joint_centre_mm = joint;
+  TissueLattice on_arcs = makeLattice(rod, true, by_angle), lifted = makeLattice(rod, true, by_angle);
+  const Eigen::Matrix3Xd fibres = makeRodFibres();
+  EXPECT_EQ(lifted.setLiftOffGuides(fibres, kRodFibrePoints, std::vector<bool>(kRodGuidePoints, false)), 0.0) << "held at the ends";
+  EXPECT_EQ(lifted.getNodes(), on_arcs.getNodes()) << "nothing lifts at rest";
+  EXPECT_EQ(lifted.getLiftFraction(), 0.0);
+
+  const Eigen::Vector3d arc = carryMiddleShortened(on_arcs, joint), up = carryMiddleShortened(lifted, joint);
+  ASSERT_GT(lifted.getLiftFraction(), 0.9);
+  // The guides' own largest rise, from the fibres the map carries.
+  Eigen::Matrix3Xd carried;
+  std::vector<int> ties(kRodGuidePoints, -1);
+  for (int f = 0; f < kRodFibres; ++f) {
+    ties[static_cast<size_t>(kRodFibrePoints * f)] = 0;
+    ties[static_cast<size_t>(kRodFibrePoints * (f + 1) - 1)] = 1;
+  }
+  on_arcs.carry(on_arcs.bind(fibres, ties), carried);
+  double guide_max = 0.0;
+  for (int f = 0; f < kRodFibres; ++f)
+    guide_max = std::max(guide_max, calcLiftOffRisesSinceRest(carried.middleCols(kRodFibrePoints * f, kRodFibrePoints),
+                                                              fibres.middleCols(kRodFibrePoints * f, kRodFibrePoints),
+                                                              joint, Eigen::Vector3d::UnitZ(), 2.0)
+                                        .colwise()
+                                        .norm()
+                                        .maxCoeff());
+  ASSERT_GT(guide_max, 2.0);
+  const double rise = (up - joint).norm() - (arc - joint).norm();
+  EXPECT_GT(rise, 0.5 * guide_max) << "the middle rises away from the joint";
+  EXPECT_NEAR((up - arc).norm(), rise, 0.05 * rise) << "straight away from it";
+  EXPECT_LE(lifted.getLiftMax(), lifted.getLiftFraction() * guide_max + 1e-9) << "never beyond its strings";
+}
+
+TEST(TissueLattice, ARodLyingOnItsOriginBoneIsHeldWhereItLeavesItAndLiftsLess) {
+  const Rod rod;
+  const Eigen::Vector3d joint(0, -30, 0);
+  LatticeSettings by_angle;
+  by_angle.joint_centre_mm = joint;
+  TissueLattice held_at_ends = makeLattice(rod, true, by_angle), held_on_bone = makeLattice(rod, true, by_angle);
+  const Eigen::Matrix3Xd fibres = makeRodFibres();
+  std::vector<bool> on_bone(kRodGuidePoints, false);
+  for (int j = 0; j < kRodGuidePoints; ++j) on_bone[static_cast<size_t>(j)] = fibres(0, j) <= -12.0;
+  held_at_ends.setLiftOffGuides(fibres, kRodFibrePoints, std::vector<bool>(kRodGuidePoints, false));
+  const double pulley = held_on_bone.setLiftOffGuides(fibres, kRodFibrePoints, on_bone);
+  // w₁ at x = −12 mm: every fibre's last point on the bone, at the same angle about the joint.
+  const Eigen::VectorXd w = calcJointAngleBlendWeights(Eigen::Matrix3Xd(Eigen::Vector3d(-12, 0, 0)),
+                                                       rod.field.getCentres(), rod.attachments, joint)
+                                .row(1)
+                                .transpose();
+  EXPECT_GT(pulley, 0.0);
+  EXPECT_NEAR(pulley, w[0], 0.05);
+  const Eigen::Vector3d ends = carryMiddleShortened(held_at_ends, joint), bone = carryMiddleShortened(held_on_bone, joint);
+  EXPECT_GT(held_on_bone.getLiftMax(), 0.0);
+  EXPECT_LT((bone - joint).norm(), (ends - joint).norm() - 0.1);
+}
+
+TEST(TissueLattice, TheLiftOffNeedsTwoBonesAJointCentreAndWholeFibres) {
+  const Rod rod;
+  TissueLattice by_distance = makeLattice(rod, true);
+  const Eigen::Matrix3Xd fibres = makeRodFibres();
+  EXPECT_THROW(by_distance.setLiftOffGuides(fibres, kRodFibrePoints, std::vector<bool>(kRodGuidePoints, false)), std::invalid_argument);
+  LatticeSettings by_angle;
+  by_angle.joint_centre_mm = Eigen::Vector3d(0, -30, 0);
+  TissueLattice lattice = makeLattice(rod, true, by_angle);
+  EXPECT_THROW(lattice.setLiftOffGuides(fibres, kRodFibrePoints - 1, std::vector<bool>(kRodGuidePoints, false)), std::invalid_argument);
+  EXPECT_THROW(lattice.setLiftOffGuides(fibres, kRodFibrePoints, std::vector<bool>(kRodGuidePoints - 1, false)), std::invalid_argument);
+  EXPECT_THROW(lattice.setLiftOffGuides(fibres, 1, std::vector<bool>(kRodGuidePoints, false)), std::invalid_argument);
 }
 
 TEST(TissueLattice, ACommonRigidMotionIsNoStretch) {

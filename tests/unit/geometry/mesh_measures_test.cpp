@@ -21,6 +21,22 @@ TEST(MeshMeasures, BoxVolumeAndArea) {
   EXPECT_EQ(countComponents(box), 1);
 }
 
+TEST(MeshMeasures, EachPieceIsAsFarAcrossAsItsBoundingBoxsDiagonal) {
+  // The box (100 × 80 × 100 mm) and a triangle 1 mm across beside it, apart from it.
+  TriangleMesh mesh = loadMesh(modelPath("shapes/box.ply"));
+  const int v = mesh.countVertices();
+  mesh.vertices_mm.conservativeResize(3, v + 3);
+  mesh.vertices_mm.rightCols(3) << 500, 501, 500,  //
+                                   0, 0, 0,        //
+                                   0, 0, 0.5;
+  mesh.triangles.conservativeResize(3, mesh.countTriangles() + 1);
+  mesh.triangles.rightCols(1) << v, v + 1, v + 2;
+  const std::vector<double> sizes = calcComponentSizes(mesh);
+  ASSERT_EQ(sizes.size(), 2u);
+  EXPECT_NEAR(sizes[0], std::sqrt(100.0 * 100.0 + 80.0 * 80.0 + 100.0 * 100.0), 1e-9);
+  EXPECT_NEAR(sizes[1], std::sqrt(1.0 + 0.25), 1e-12);
+}
+
 TEST(MeshMeasures, GluteusMaximusVolume) {
   const TriangleMesh m = loadMesh(modelPath("hip/meshes/gluteus_maximus_r.ply"));
   EXPECT_NEAR(calcVolume(m), 746.6e3, 0.005 * 746.6e3);  // 746.6 ml

@@ -1,0 +1,93 @@
+// SPDX-License-Identifier: Apache-2.0
+#include "dynamics/joint_lift_off.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <vector>
+
+namespace rbfmuscle {
+
+namespace {
+
+double cross(const Eigen::Vector2d& a, const Eigen::Vector2d& b) { return a.x() * b.y() - a.y() * b.x(); }
+
+/// The convex hull's vertices, counter-clockwise (Andrew's monotone chain).
+std::vector<Eigen::Vector2d> findHull(std::vector<Eigen::Vector2d> p) {
+  std::sort(p.begin(), p.end(), [](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return a.x() < b.x() || (a.x() == b.x() && a.y() < b.y());
+  });
+  std::vector<Eigen::Vector2d> hull(2 * p.size());
+  size_t k = 0;
+  for (size_t i = 0; i < p.size(); ++i) {  // lower chain
+    while (k >= 2 && cross(hull[k - 1] - hull[k - 2], p[i] - hull[k - 2]) <= 0.0) --k;
+    hull[k++] = p[i];
+  }
+  for (size_t i = p.size() - 1, lower = k + 1; i-- > 0;) {  // upper chain
+    while (k >= lower && cross(hull[k - 1] - hull[k - 2], p[i] - hull[k - 2]) <= 0.0) --k;
+    hull[k++] = p[i];
+  }
+  hull.resize(k > 1 ? k - 1 : k);
+  return hull;
+}
+
+Eigen::Matrix<double, 2, 3> planeBasis(const Eigen::Vector3d& axis) {
+  const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
+  Eigen::Matrix<double, 2, 3> basis;
+  basis.row(0) = u.transpose();
+  basis.row(1) = v.transpose();
+  return basis;
+}
+
+}  // namespace
+
+Eigen::VectorXd calcStringDistances(const Eigen::Matrix2Xd& points) {
+  if (!points.allFinite()) throw std::invalid_argument("calcStringDistances: the points must be finite");
+  const Eigen::Index m = points.cols();
+  std::vector<Eigen::Vector2d> all(static_cast<size_t>(m) + 1, Eigen::Vector2d::Zero());
+  for (Eigen::Index j = 0; j < m; ++j) all[static_cast<size_t>(j)] = points.col(j);
+  const std::vector<Eigen::Vector2d> hull = findHull(all);
+  Eigen::VectorXd s(m);
+  for (Eigen::Index j = 0; j < m; ++j) {
+    const double r = points.col(j).norm();
+    s[j] = r;
+    if (!(r > 0.0) || hull.size() < 3) continue;
+    // The ray leaves the hull through the nearest edge it faces: edge e holds n·x ≤ c, the
+    // origin inside (c ≥ 0), so the exit is at t = c / (n·d) over the edges with n·d > 0.
+    const Eigen::Vector2d d = points.col(j) / r;
+    double exit = std::numeric_limits<double>::infinity();
+    for (size_t e = 0; e < hull.size(); ++e) {
+      const Eigen::Vector2d a = hull[e], b = hull[(e + 1) % hull.size()];
+      const Eigen::Vector2d n(b.y() - a.y(), a.x() - b.x());  // outward for a counter-clockwise hull
+      const double facing = n.dot(d);
+      if (facing > 0.0) exit = std::min(exit, std::max(n.dot(a), 0.0) / facing);
+    }
+    if (std::isfinite(exit)) s[j] = std::max(exit, r);
+  }
+  return s;
+}
+
+Eigen::Matrix3Xd calcLiftOffRisesSinceRest(const Eigen::Matrix3Xd& now_mm, const Eigen::Matrix3Xd& rest_mm,
+                                           const Eigen::Vector3d& centre_mm, const Eigen::Vector3d& axis,
+                                           double fade_mm) {
+  if (now_mm.cols() != rest_mm.cols())
+    throw std::invalid_argument("calcLiftOffRisesSinceRest: the string now and at rest differ in points");
+  if (!(std::abs(axis.norm() - 1.0) < 1e-9) || !(fade_mm > 0.0) || !centre_mm.allFinite())
+    throw std::invalid_argument("calcLiftOffRisesSinceRest: need a unit axis, a finite centre and fade_mm > 0");
+  const Eigen::Matrix<double, 2, 3> basis = planeBasis(axis);
+  const Eigen::Matrix2Xd now = basis * (now_mm.colwise() - centre_mm), rest = basis * (rest_mm.colwise() - centre_mm);
+  const Eigen::VectorXd s = calcStringDistances(now), s0 = calcStringDistances(rest);
+  Eigen::Matrix3Xd rises = Eigen::Matrix3Xd::Zero(3, now_mm.cols());
+  for (Eigen::Index j = 0; j < now_mm.cols(); ++j) {
+    const double r = now.col(j).norm();
+    if (!(r > 0.0) || !(s0[j] > 0.0) || !(s[j] > s0[j])) continue;
+    const double u = std::min(s0[j] / fade_mm, 1.0), fade = u * u * (3.0 - 2.0 * u);
+    rises.col(j) = fade * (s[j] - s0[j]) / r * (basis.transpose() * now.col(j));  // s − s₀ along the ray
+  }
+  return rises;
+}
+
+}  // namespace rbfmuscle
