@@ -176,6 +176,14 @@ double TissueLattice::setLiftOffGuides(const Eigen::Matrix3Xd& fibre_points_mm, 
   for (int f = 0; f < fibres; ++f)
     for (int j = 0; j < points_per_fibre; ++j)
       if (weight_1[f * points_per_fibre + j] <= pulley) string_starts_[static_cast<size_t>(f)] = j;
+  // Tissue that turns with one bone to second order (the blend ramp's quadratic ends) does not
+  // lift, as a string does not at its held ends: the rise fades to 0 across those ends.
+  const double end_weight = kJointBlendEndFraction / (2.0 * (1.0 - kJointBlendEndFraction));
+  node_freedoms_.resize(countNodes());
+  for (int n = 0; n < countNodes(); ++n) {
+    const double u = std::clamp(std::min(node_weights_(1, n), 1.0 - node_weights_(1, n)) / end_weight, 0.0, 1.0);
+    node_freedoms_[n] = u * u * (3.0 - 2.0 * u);
+  }
   guides_ = std::move(guides);
   guide_points_per_fibre_ = points_per_fibre;
   update(motions_);
@@ -213,7 +221,7 @@ void TissueLattice::liftOff() {
   for (int n = 0; n < k; ++n)
     if (shares[n] > 0.0) rises.col(n) /= shares[n];
   smooth(rises, scalePasses(settings_.lift_passes));
-  rises *= lift_fraction_;
+  for (int n = 0; n < k; ++n) rises.col(n) *= lift_fraction_ * node_freedoms_[n];
   nodes_mm_ += rises;
   lift_max_mm_ = rises.colwise().norm().maxCoeff();
 }

@@ -46,7 +46,9 @@
 ///    s − s₀ about the joint's turn axis; each node takes the mean rise
 ///    of the guide points in its cells, the rises are smoothed by lift_passes Laplacian passes
 ///    (so they fade at the muscle's edge and over its thin parts alike), and every node rises
-///    by λ times its own, after the thinning. The volume, the surface and the fibres all move
+///    by λ times its own, after the thinning, except where it turns with one bone to second
+///    order (the blend ramp's quadratic ends, attachment.h): across those the rise fades to 0,
+///    as a string's does at its held ends. The volume, the surface and the fibres all move
 ///    with the risen nodes.
 #include "dynamics/attachment.h"
 #include "dynamics/motion_prediction.h"
@@ -201,6 +203,7 @@ class TissueLattice {
   LatticeBinding guides_;                 ///< step 5's rest fibres (empty: no lift-off)
   int guide_points_per_fibre_ = 0;
   std::vector<int> string_starts_;        ///< per guide fibre: its first string point
+  Eigen::VectorXd node_freedoms_;         ///< per node: the share of its rise it takes (0 where it turns with one bone)
   double lift_fraction_ = 0.0, lift_max_mm_ = 0.0;
 };
 

@@ -288,9 +288,17 @@ Eigen::Matrix3Xd makeRodFibres() {
   return points;
 }
 
-/// The rod's middle, carried by a lattice whose bones turn together by +0.5 rad about the joint below it.
-Eigen::Vector3d carryMiddleShortened(TissueLattice& lattice, const Eigen::Vector3d& joint) {
-  lattice.update({Eigen::Isometry3d::Identity(), test::makeRotationAbout(joint, Eigen::Vector3d::UnitZ(), 0.5)});
+/// The lift-off's tests turn the rod about a joint 30 mm below its middle, weights by angle about it.
+const Eigen::Vector3d kRodJoint(0, -30, 0);
+TissueLattice makeRodLatticeByAngle(const Rod& rod) {
+  LatticeSettings by_angle;
+  by_angle.joint_centre_mm = kRodJoint;
+  return makeLattice(rod, true, by_angle);
+}
+
+/// The rod's middle, carried by a lattice whose bones turn together by +0.5 rad about the joint.
+Eigen::Vector3d carryMiddleShortened(TissueLattice& lattice) {
+  lattice.update({Eigen::Isometry3d::Identity(), test::makeRotationAbout(kRodJoint, Eigen::Vector3d::UnitZ(), 0.5)});
   Eigen::Matrix3Xd middle;
   lattice.carry(lattice.bind(Eigen::Matrix3Xd(Eigen::Vector3d(0, 0, 0))), middle);
   return middle.col(0);
@@ -298,16 +306,14 @@ Eigen::Vector3d carryMiddleShortened(TissueLattice& lattice, const Eigen::Vector
 
 TEST(TissueLattice, AShortenedRodLiftsOffTheJointTowardsItsStrings) {
   const Rod rod;
-  const Eigen::Vector3d joint(0, -30, 0);
-  LatticeSettings by_angle;
-  by_angle.joint_centre_mm = joint;
-  TissueLattice on_arcs = makeLattice(rod, true, by_angle), lifted = makeLattice(rod, true, by_angle);
+  const Eigen::Vector3d& joint = kRodJoint;
+  TissueLattice on_arcs = makeRodLatticeByAngle(rod), lifted = makeRodLatticeByAngle(rod);
   const Eigen::Matrix3Xd fibres = makeRodFibres();
   EXPECT_EQ(lifted.setLiftOffGuides(fibres, kRodFibrePoints, std::vector<bool>(kRodGuidePoints, false)), 0.0) << "held at the ends";
   EXPECT_EQ(lifted.getNodes(), on_arcs.getNodes()) << "nothing lifts at rest";
   EXPECT_EQ(lifted.getLiftFraction(), 0.0);
 
-  const Eigen::Vector3d arc = carryMiddleShortened(on_arcs, joint), up = carryMiddleShortened(lifted, joint);
+  const Eigen::Vector3d arc = carryMiddleShortened(on_arcs), up = carryMiddleShortened(lifted);
   ASSERT_GT(lifted.getLiftFraction(), 0.9);
   // The guides' own largest rise, from the fibres the map carries.
   Eigen::Matrix3Xd carried;
@@ -334,10 +340,8 @@ TEST(TissueLattice, AShortenedRodLiftsOffTheJointTowardsItsStrings) {
 
 TEST(TissueLattice, ARodLyingOnItsOriginBoneIsHeldWhereItLeavesItAndLiftsLess) {
   const Rod rod;
-  const Eigen::Vector3d joint(0, -30, 0);
-  LatticeSettings by_angle;
-  by_angle.joint_centre_mm = joint;
-  TissueLattice held_at_ends = makeLattice(rod, true, by_angle), held_on_bone = makeLattice(rod, true, by_angle);
+  const Eigen::Vector3d& joint = kRodJoint;
+  TissueLattice held_at_ends = makeRodLatticeByAngle(rod), held_on_bone = makeRodLatticeByAngle(rod);
   const Eigen::Matrix3Xd fibres = makeRodFibres();
   std::vector<bool> on_bone(kRodGuidePoints, false);
   for (int j = 0; j < kRodGuidePoints; ++j) on_bone[static_cast<size_t>(j)] = fibres(0, j) <= -12.0;
@@ -350,7 +354,7 @@ TEST(TissueLattice, ARodLyingOnItsOriginBoneIsHeldWhereItLeavesItAndLiftsLess) {
                                 .transpose();
   EXPECT_GT(pulley, 0.0);
   EXPECT_NEAR(pulley, w[0], 0.05);
-  const Eigen::Vector3d ends = carryMiddleShortened(held_at_ends, joint), bone = carryMiddleShortened(held_on_bone, joint);
+  const Eigen::Vector3d ends = carryMiddleShortened(held_at_ends), bone = carryMiddleShortened(held_on_bone);
   EXPECT_GT(held_on_bone.getLiftMax(), 0.0);
   EXPECT_LT((bone - joint).norm(), (ends - joint).norm() - 0.1);
 }
@@ -360,9 +364,7 @@ TEST(TissueLattice, TheLiftOffNeedsTwoBonesAJointCentreAndWholeFibres) {
   TissueLattice by_distance = makeLattice(rod, true);
   const Eigen::Matrix3Xd fibres = makeRodFibres();
   EXPECT_THROW(by_distance.setLiftOffGuides(fibres, kRodFibrePoints, std::vector<bool>(kRodGuidePoints, false)), std::invalid_argument);
-  LatticeSettings by_angle;
-  by_angle.joint_centre_mm = Eigen::Vector3d(0, -30, 0);
-  TissueLattice lattice = makeLattice(rod, true, by_angle);
+  TissueLattice lattice = makeRodLatticeByAngle(rod);
   EXPECT_THROW(lattice.setLiftOffGuides(fibres, kRodFibrePoints - 1, std::vector<bool>(kRodGuidePoints, false)), std::invalid_argument);
   EXPECT_THROW(lattice.setLiftOffGuides(fibres, kRodFibrePoints, std::vector<bool>(kRodGuidePoints - 1, false)), std::invalid_argument);
   EXPECT_THROW(lattice.setLiftOffGuides(fibres, 1, std::vector<bool>(kRodGuidePoints, false)), std::invalid_argument);
