@@ -86,8 +86,8 @@ class MomentArmScene : public ::testing::Test {
     return c < 0 ? NAN : table_.rows.at(row).at(static_cast<size_t>(c));
   }
 
-  /// Frames: rest; 0.3 rad and either side of it by δ; 0.3 rad ± 0.05.
-  static inline const std::vector<double> kAngles = {0.0, 0.3 - kStep, 0.3, 0.3 + kStep, 0.25, 0.35};
+  /// Frames: rest; 0.3 rad and either side of it by δ; 0.3 rad ± 0.025.
+  static inline const std::vector<double> kAngles = {0.0, 0.3 - kStep, 0.3, 0.3 + kStep, 0.275, 0.325};
   static inline fs::path dir_;
   static inline StorageTable table_;
 };
@@ -103,8 +103,9 @@ TEST_F(MomentArmScene, FibreArmsAreTheCentralDifferenceOfSeparateFrames) {
     mean += from_frames / fibres;
   }
   EXPECT_NEAR(value(2, "moment_arm_hinge_mm"), mean, 1e-6);
-  // A coarser difference (±0.05 rad) differs by its own O(h²) error only.
-  const double coarse = (value(4, "fibre_length_mean_mm") - value(5, "fibre_length_mean_mm")) / 0.1;
+  // A coarser difference (±0.025 rad) differs by its own O(h²) error only (the rod, shortened
+  // by the turn, lifts off the hinge by a fraction that changes fastest about here).
+  const double coarse = (value(4, "fibre_length_mean_mm") - value(5, "fibre_length_mean_mm")) / 0.05;
   EXPECT_NEAR(value(2, "moment_arm_hinge_mm"), coarse, 0.5);
 }
 
