@@ -254,6 +254,13 @@ void checkNoLoopOfJoints(const std::string& urdf_path, const tinyxml2::XMLDocume
     const char* parent_link = parent ? parent->Attribute("link") : nullptr;
     const char* child_link = child ? child->Attribute("link") : nullptr;
     const char* name = joint->Attribute("name");
+    // urdfdom reads the text with another XML reader, which decodes an unknown entity ("&a")
+    // differently: the links it joins must be the links checked here.
+    for (const char* link : {parent_link, child_link})
+      if (link && std::string(link).find('&') != std::string::npos)
+        throw ModelError(where(urdf_path, "joint '" + std::string(name ? name : "") + "' names the link '" + link +
+                                              "', with an '&' that XML readers decode differently; expected a "
+                                              "link name without '&'"));
     if (parent_link && child_link) children[parent_link].emplace_back(name ? name : "", child_link);
   }
   enum class Walk { kOnPath, kDone };

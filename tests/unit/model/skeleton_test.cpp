@@ -341,6 +341,16 @@ TEST(SkeletonErrors, UrdfJointWhoseParentIsItsChildIsRefusedBesideALinkWithTwoPa
                    {f.path(), "'j_a_a'", "closed loop of links ('a' → 'a')", "must form a tree"});
 }
 
+TEST(SkeletonErrors, UrdfJointLinkWithAnUnknownEntityIsRefused) {
+  // "&a" is "&a" to the loop check's XML reader and the link a to urdfdom's, which then closes
+  // the loop a → b → a that the check did not see (a leak under the sanitizers, found by the fuzzer).
+  TempFile f("entity_loop.urdf");
+  f.write(std::string(R"(<robot name="loop"><link name="a"/><link name="b"/>
+    <joint name="j_a_b" type="revolute"><parent link="&a"/><child link="b"/>)") + kRevoluteLimit + R"(</joint>
+    <joint name="j_b_a" type="revolute"><parent link="b"/><child link="a"/>)" + kRevoluteLimit + R"(</joint></robot>)");
+  expectModelError([&] { Skeleton::fromUrdf(f.path()); }, {f.path(), "joint 'j_a_b'", "'&a'", "without '&'"});
+}
+
 TEST(SkeletonErrors, UrdfMeshScaleOfZeroIsRefusedNamingTheLinkAndMesh) {
   TempFile f("scale_zero.urdf");
   f.write("<robot name=\"r\"><link name=\"bone\"><visual><geometry><mesh filename=\"" + kHipDir +
