@@ -20,6 +20,12 @@ void checkSize(const GaussianField& field, const Attachments& attachments, const
   }
 }
 
+/// The joint blend's ramp h(t) for t ≤ ½ (h(1 − t) = 1 − h(t)): quadratic on [0, e], linear after.
+double calcRampToHalf(double t, double end_fraction) {
+  const double slope = 1.0 / (1.0 - end_fraction);
+  return t < end_fraction ? slope * t * t / (2.0 * end_fraction) : slope * (t - 0.5 * end_fraction);
+}
+
 }  // namespace
 
 int Attachments::countAttached() const {
@@ -154,10 +160,6 @@ Eigen::MatrixXd calcJointAngleBlendWeights(const Eigen::Matrix3Xd& points_mm, co
   if (!(end_fraction >= 0.0 && end_fraction < 0.5))
     throw std::invalid_argument("calcJointAngleBlendWeights: end fraction " + std::to_string(end_fraction) +
                                 ", expected in [0, 0.5)");
-  const double slope = 1.0 / (1.0 - end_fraction);
-  const auto ramp = [&](double t) {  // h(t) for t ≤ ½; h(1 − t) = 1 − h(t)
-    return t < end_fraction ? slope * t * t / (2.0 * end_fraction) : slope * (t - 0.5 * end_fraction);
-  };
   Eigen::MatrixXd weights(2, points_mm.cols());
 #pragma omp parallel for schedule(static)
   for (Eigen::Index j = 0; j < points_mm.cols(); ++j) {
@@ -168,7 +170,7 @@ Eigen::MatrixXd calcJointAngleBlendWeights(const Eigen::Matrix3Xd& points_mm, co
       const double a1 = angleToNearest(d.normalized(), directions[1]);
       if (a0 + a1 > 0.0) t = a0 / (a0 + a1);
     }
-    const double h = t <= 0.5 ? ramp(t) : 1.0 - ramp(1.0 - t);
+    const double h = t <= 0.5 ? calcRampToHalf(t, end_fraction) : 1.0 - calcRampToHalf(1.0 - t, end_fraction);
     weights(0, j) = 1.0 - h;
     weights(1, j) = h;
   }
@@ -186,5 +188,7 @@ double calcAttachmentAngle(const Eigen::Matrix3Xd& rest_centres_mm, const Attach
 double calcFoldFreeTurn(double attachment_angle_rad, double end_fraction) {
   return 4.0 * std::atan((1.0 - end_fraction) * attachment_angle_rad / 4.0);
 }
+
+double calcJointBlendEndWeight(double end_fraction) { return calcRampToHalf(end_fraction, end_fraction); }
 
 }  // namespace rbfmuscle

@@ -98,6 +98,11 @@ Eigen::MatrixXd calcJointAngleBlendWeights(const Eigen::Matrix3Xd& points_mm, co
                                            const Attachments& attachments, const Eigen::Vector3d& joint_centre_mm,
                                            double end_fraction = kJointBlendEndFraction);
 
+/// The weight w₁ at which calcJointAngleBlendWeights' ramp leaves its quadratic end for its
+/// linear middle, h(e) (0.125 for e = 0.2): tissue with w₁ below it (or above 1 − h(e)) turns
+/// with its bone to second order.
+double calcJointBlendEndWeight(double end_fraction = kJointBlendEndFraction);
+
 /// α: the smallest angle (rad) between an attached centre of bone 0 and one of bone 1, seen
 /// from `joint_centre_mm` (calcFoldFreeTurn turns it into the fold-free turn).
 /// @throws std::invalid_argument as calcJointAngleBlendWeights.

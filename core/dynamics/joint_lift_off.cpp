@@ -1,6 +1,8 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "dynamics/joint_lift_off.h"
 
+#include "dynamics/smoothstep.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -84,8 +86,7 @@ Eigen::Matrix3Xd calcLiftOffRisesSinceRest(const Eigen::Matrix3Xd& now_mm, const
   for (Eigen::Index j = 0; j < now_mm.cols(); ++j) {
     const double r = now.col(j).norm();
     if (!(r > 0.0) || !(s0[j] > 0.0) || !(s[j] > s0[j])) continue;
-    const double u = std::min(s0[j] / fade_mm, 1.0), fade = u * u * (3.0 - 2.0 * u);
-    rises.col(j) = fade * (s[j] - s0[j]) / r * (basis.transpose() * now.col(j));  // s − s₀ along the ray
+    rises.col(j) = calcSmoothstep(s0[j] / fade_mm) * (s[j] - s0[j]) / r * (basis.transpose() * now.col(j));  // s − s₀ along the ray
   }
   return rises;
 }

@@ -2,6 +2,7 @@
 #include "dynamics/tissue_lattice.h"
 
 #include "dynamics/joint_lift_off.h"
+#include "dynamics/smoothstep.h"
 #include "dynamics/thickness_axes.h"
 #include "geometry/mesh_distance.h"
 
@@ -32,8 +33,7 @@ double calcCornerWeight(int corner, const Eigen::Vector3d& u) {
 
 double calcOnBoneWeight(double clearance_mm, double half_thickness_mm) {
   if (!(half_thickness_mm > 0.0) || !(clearance_mm < half_thickness_mm)) return 0.0;  // +∞ far from the bones
-  const double u = std::max(clearance_mm, 0.0) / half_thickness_mm;
-  return 1.0 - u * u * (3.0 - 2.0 * u);
+  return 1.0 - calcSmoothstep(std::max(clearance_mm, 0.0) / half_thickness_mm);
 }
 
 TissueLattice::TissueLattice(const Eigen::Matrix3Xd& rest_centres_mm, const Attachments& attachments,
@@ -178,12 +178,10 @@ double TissueLattice::setLiftOffGuides(const Eigen::Matrix3Xd& fibre_points_mm, 
       if (weight_1[f * points_per_fibre + j] <= pulley) string_starts_[static_cast<size_t>(f)] = j;
   // Tissue that turns with one bone to second order (the blend ramp's quadratic ends) does not
   // lift, as a string does not at its held ends: the rise fades to 0 across those ends.
-  const double end_weight = kJointBlendEndFraction / (2.0 * (1.0 - kJointBlendEndFraction));
+  const double end_weight = calcJointBlendEndWeight();
   node_freedoms_.resize(countNodes());
-  for (int n = 0; n < countNodes(); ++n) {
-    const double u = std::clamp(std::min(node_weights_(1, n), 1.0 - node_weights_(1, n)) / end_weight, 0.0, 1.0);
-    node_freedoms_[n] = u * u * (3.0 - 2.0 * u);
-  }
+  for (int n = 0; n < countNodes(); ++n)
+    node_freedoms_[n] = calcSmoothstep(std::min(node_weights_(1, n), 1.0 - node_weights_(1, n)) / end_weight);
   guides_ = std::move(guides);
   guide_points_per_fibre_ = points_per_fibre;
   update(motions_);
@@ -309,13 +307,11 @@ void TissueLattice::update(const std::vector<Eigen::Isometry3d>& bone_motion_M) 
   }
   stretch_ = rate_sum > 0.0 ? stretch_sum / rate_sum : 1.0;
   // Step 5: a shortened muscle lifts off the joint.
-  const double shortening = std::clamp((1.0 - stretch_) / settings_.taut_stretch, 0.0, 1.0);
-  lift_fraction_ = guides_.size() > 0 ? shortening * shortening * (3.0 - 2.0 * shortening) : 0.0;
+  lift_fraction_ = guides_.size() > 0 ? calcSmoothstep((1.0 - stretch_) / settings_.taut_stretch) : 0.0;
   lift_max_mm_ = 0.0;
   if (lift_fraction_ > 0.0) liftOff();
   // Step 4: the taut nodes, part of the way from the blend's arcs to its chords.
-  const double u = std::clamp((stretch_ - 1.0) / settings_.taut_stretch, 0.0, 1.0);
-  taut_fraction_ = u * u * (3.0 - 2.0 * u);
+  taut_fraction_ = calcSmoothstep((stretch_ - 1.0) / settings_.taut_stretch);
   taut_nodes_mm_.resize(3, 0);
   if (taut_fraction_ == 0.0) return;
   taut_nodes_mm_ = nodes_mm_;
