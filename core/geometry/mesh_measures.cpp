@@ -79,8 +79,10 @@ std::vector<double> calcComponentSizes(const TriangleMesh& mesh) {
   int count = 0;
   const std::vector<int> label = labelComponents(mesh, count);
   std::vector<Eigen::AlignedBox3d> boxes(static_cast<std::size_t>(count));
-  for (int v = 0; v < mesh.countVertices(); ++v)
-    if (label[static_cast<std::size_t>(v)] >= 0) boxes[static_cast<std::size_t>(label[static_cast<std::size_t>(v)])].extend(mesh.vertices_mm.col(v));
+  for (int v = 0; v < mesh.countVertices(); ++v) {
+    const int piece = label[static_cast<std::size_t>(v)];
+    if (piece >= 0) boxes[static_cast<std::size_t>(piece)].extend(mesh.vertices_mm.col(v));
+  }
   std::vector<double> sizes;
   for (const Eigen::AlignedBox3d& box : boxes) sizes.push_back(box.diagonal().norm());
   std::sort(sizes.begin(), sizes.end(), [](double x, double y) { return x > y; });

@@ -13,9 +13,10 @@
 /// of every muscle in one piece in every scene (the psoas's in the rotation because its mesh,
 /// segmented up to 3.5 mm inside the ilium, is moved out of it at rest: docs/design.md, Contacts
 /// by composition); the gluteus's tracked surface in one piece in every scene, and the
-/// iliacus's in adduction, rotation and gait (pieces at least the 2 mm cell across). Where a muscle lies on a bone its tracked vertices
-/// find no surface and their triangles are dropped, which cuts the tracked mesh of the iliacus and
-/// the psoas in flexion; the pieces of both are printed for every muscle. The main job's flexion
+/// iliacus's in adduction, rotation and gait (counting pieces at least the 2 mm cell across).
+/// Where a muscle lies on a bone its tracked vertices find no surface and their triangles are
+/// dropped, which cuts the tracked mesh of the iliacus and the psoas in flexion; the pieces of
+/// both are printed for every muscle. The main job's flexion
 /// (0→80° in 1° frames) runs again in 10° frames, and the gluteus flexes on to 120°, with the same
 /// checks. In the main job also: the gluteus's fibres lengthen and the iliacus's and the psoas's
 /// shorten at every frame, the psoas to at most 0.93 of its rest length, and the gluteus's hip
