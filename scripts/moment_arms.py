@@ -51,6 +51,8 @@ def run_scene(scene, coordinate, out_root):
             "p10": np.percentile(fibres, 10, axis=1),
             "p90": np.percentile(fibres, 90, axis=1),
             "line": column(f"{m}.line_of_action_moment_arm_{coordinate}_mm"),
+            "length": np.array([v for h, v in columns.items() if h.startswith(f"{m}.fibre_length_mm_")]).mean(axis=0),
+            "line_length": column(f"{m}.line_of_action_length_mm"),
         }
     return angle_deg, result
 

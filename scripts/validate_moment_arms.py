@@ -10,7 +10,8 @@ scripts/moment_arms.py does), reads the published curves of models/reference/hip
 - writes into README.md, between the "moment arm validation" markers, a table over 0–60° of flexion
   in 10° steps: ours, the line of action's, the published spread (Blemker & Delp 2005, fibres of an
   image-based model) or else mean (Németh & Ohlsén 1985, in vivo), and whether ours lies within the
-  spread, or within 25 % of the mean where only a mean is given.
+  spread, or within 25 % of the mean where only a mean is given; and a table of each muscle's
+  length change over 0–80°, ours, the line of action's and the one the published spread of arms gives.
 All in OpenSim's sign, r = −∂l/∂q (mm per rad; positive: the muscle shortens as the hip flexes).
 
 Usage: /usr/bin/python3 scripts/validate_moment_arms.py [--no-write]
@@ -30,6 +31,8 @@ REFERENCE = os.path.join(ROOT, "models", "reference", "hip_flexion_moment_arms.j
 PICTURE = os.path.join(ROOT, "docs", "pictures", "moment_arms_literature.png")
 COORDINATE = "hip_flexion_r"
 TABLE_ANGLES_DEG = range(0, 61, 10)
+LENGTH_RANGE_DEG = (0, 80)  # the main job's motion
+DIGITISED_END_DEG = 1.0  # a digitised curve may begin or end this close to the range, read as its end
 MEAN_TOLERANCE = 0.25  # relative, where a source gives only a mean
 UNIT_MM = {"mm": 1.0, "cm": 10.0}
 
@@ -138,6 +141,36 @@ def table(angle_deg, result, reference):
     return "\n".join(lines)
 
 
+def length_table(angle_deg, result, reference):
+    """Each muscle's length change over the motion: ours, the line of action's, and the change that
+    the published spread of arms implies (l(b) − l(a) = −∫ r dq), also as a ratio to our l(a)."""
+    a, b = LENGTH_RANGE_DEG
+    lines = [f"Length change from {a}° to {b}° of flexion: the mean fibre length, the line of action's, "
+             f"and the change the published spread of moment arms gives, l({b}°) − l({a}°) = −∫ r dq, also as a "
+             "ratio to our fibres' mean length at rest. A line of action's length is its own path's: "
+             "MyoLeg's psoas starts at the pelvic brim, our fibres at the lumbar vertebrae "
+             "(`models/hip/README.md`), so only the changes compare.", "",
+             f"| muscle | ours: l({a}°) (mm), l({b}°) − l({a}°) (mm), ratio | line of action: the same "
+             f"| l({b}°) − l({a}°) by the published arms (mm) | the ratio they give our fibres |",
+             "|---|---|---|---|---|"]
+    for m in MUSCLES:
+        cells = []
+        for key in ("length", "line_length"):
+            l_a, l_b = at(a, angle_deg, result[m][key]), at(b, angle_deg, result[m][key])
+            cells.append(f"{l_a:.0f}, {l_b - l_a:+.1f}, {l_b / l_a:.3f}")
+        ours_a = at(a, angle_deg, result[m]["length"])
+        published, ratios = [], []
+        for name, angles, low, high in reference[m]["spread"]:
+            if angles[0] > a + DIGITISED_END_DEG or angles[-1] < b - DIGITISED_END_DEG:
+                continue
+            q = np.radians(np.linspace(a, b, 161))
+            changes = sorted(-np.trapz(np.interp(np.degrees(q), angles, bound), q) for bound in (low, high))
+            published.append(f"{changes[0]:+.1f} to {changes[1]:+.1f} ({name})")
+            ratios.append(f"{1 + changes[0] / ours_a:.3f} to {1 + changes[1] / ours_a:.3f}")
+        lines.append(f"| {m} | " + " | ".join(cells) + f" | {'; '.join(published) or '–'} | {'; '.join(ratios) or '–'} |")
+    return "\n".join(lines)
+
+
 def trend(angle_deg, result, reference):
     """The gluteus maximus's extension moment arm from 40° to 60°: published studies see it shrink."""
     ours = [abs(at(a, angle_deg, result["glmax_r"]["mean"])) for a in (40, 60)]
@@ -154,7 +187,7 @@ def main():
     reference = load_reference()
     with tempfile.TemporaryDirectory() as out_root:
         angle_deg, result = run_scene("hip_flexion", COORDINATE, out_root)
-    text = table(angle_deg, result, reference)
+    text = table(angle_deg, result, reference) + "\n\n" + length_table(angle_deg, result, reference)
     print(text)
     if args.no_write:
         return
