@@ -12,7 +12,7 @@ README.md).
 Moment arms follow OpenSim's sign:
 r = −∂l/∂q, mm per rad (positive: the muscle shortens as the angle grows).
 
-Usage: /usr/bin/python3 scripts/moment_arms.py [--scenes hip_flexion:hip_flexion_r,...] [--no-write]
+Usage: /usr/bin/python3 scripts/moment_arms.py [--scenes hip_flexion:hip_flexion_r,...] [--no-write] [--set C.P=V]...
 (the default: every hip scene about its own coordinate, the gait cycle about the flexion)
 Needs python3-numpy and python3-matplotlib (Debian) and a built host.
 """
@@ -33,9 +33,9 @@ MUSCLES = ["glmax_r", "iliacus_r", "psoas_r"]
 TABLE_FRAMES = 5  # evenly spaced over the motion
 
 
-def run_scene(scene, coordinate, out_root):
+def run_scene(scene, coordinate, out_root, extra_sets=()):
     out = os.path.join(out_root, scene)
-    sets = []
+    sets = [a for v in extra_sets for a in ("--set", v)]
     for m in MUSCLES:
         sets += ["--set", f"{m}.moment_arms={coordinate}"]
     subprocess.run([HOST, "run", os.path.join(ROOT, "models", "hip", scene + ".xml"), "-o", out, "--quiet"] + sets,
@@ -48,6 +48,7 @@ def run_scene(scene, coordinate, out_root):
         fibres = np.array([v for h, v in columns.items() if h.startswith(f"{m}.fibre_moment_arm_{coordinate}_mm_")]).T
         result[m] = {
             "mean": column(f"{m}.moment_arm_{coordinate}_mm"),
+            "fibres": fibres,
             "p10": np.percentile(fibres, 10, axis=1),
             "p90": np.percentile(fibres, 90, axis=1),
             "line": column(f"{m}.line_of_action_moment_arm_{coordinate}_mm"),
@@ -94,23 +95,43 @@ def table(results):
     return "\n".join(lines)
 
 
+def smoothness(results):
+    """How much the arms change from one frame to the next: the mean over fibres, and each fibre's."""
+    lines = ["Change of the moment arms from one frame to the next (mm), by `scripts/moment_arms.py`: the "
+             "mean over fibres (largest), and each fibre's (median / 99th percentile / largest over fibres "
+             "and frames):", "",
+             "| scene | frame step (median) | muscle | mean over fibres | each fibre |", "|---|---|---|---|---|"]
+    for scene, (coordinate, angle_deg, result) in results.items():
+        step = np.median(np.abs(np.diff(angle_deg)))
+        for i, m in enumerate(MUSCLES):
+            mean = np.abs(np.diff(result[m]["mean"])).max()
+            each = np.abs(np.diff(result[m]["fibres"], axis=0))
+            lead = f"{scene} | {step:.2g}°" if i == 0 else " | "
+            lines.append(f"| {lead} | {m} | {mean:.1f} | {np.median(each):.2f} / {np.percentile(each, 99):.1f} / "
+                         f"{each.max():.1f} |")
+    return "\n".join(lines)
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--scenes", default="hip_flexion:hip_flexion_r,hip_adduction:hip_adduction_r,"
                         "hip_rotation:hip_rotation_r,hip_gait:hip_flexion_r")
     parser.add_argument("--no-write", action="store_true", help="print the table, draw no picture")
+    parser.add_argument("--set", action="append", default=[], metavar="C.P=V",
+                        help="passed to rbfmuscle run, e.g. psoas_r.contacts=false (implies --no-write)")
     args = parser.parse_args()
+    args.no_write = args.no_write or bool(args.set)
     results = {}
     with tempfile.TemporaryDirectory() as out_root:
         for item in args.scenes.split(","):
             scene, coordinate = item.split(":")
-            angle_deg, result = run_scene(scene, coordinate, out_root)
+            angle_deg, result = run_scene(scene, coordinate, out_root, args.set)
             results[scene] = (coordinate, angle_deg, result)
             picture = os.path.join(ROOT, "docs", "pictures", f"moment_arms_{scene}.png")
             if not args.no_write:
                 draw(scene, coordinate, angle_deg, result, picture)
                 print("wrote", os.path.relpath(picture, ROOT))
-    text = table(results)
+    text = table(results) + "\n\n" + smoothness(results)
     print(text)
     if not args.no_write:
         replace_readme_section("moment arms", text, "docs/moment_arms.md")

@@ -7,8 +7,10 @@
 ///
 /// By a central difference that re-runs the whole measurement at q ± δ on a skeleton of its
 /// own, not by differences between frames: (l(q − δ) − l(q + δ)) / 2δ, with δ = kMomentArmStep_rad
-/// or kMomentArmStep_mm. The error is δ²/6 · l‴ plus the measurement's noise over δ; the steps
-/// keep both far below 0.1 mm for fibre lengths of tens of mm.
+/// or kMomentArmStep_mm. The error is δ²/6 · l‴, far below 0.1 mm for fibre lengths of tens of
+/// mm, plus the measurement's noise over 2δ: a point that a contact moves by a step between
+/// q − δ and q + δ moves its fibre's arm by about that step / 2δ (docs/moment_arms.md measures
+/// how much the arms change between frames).
 #include <Eigen/Core>
 
 #include <functional>
