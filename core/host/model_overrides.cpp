@@ -16,10 +16,14 @@ void applyPropertyOverride(ModelDocument& document, const std::string& assignmen
   if (dot == std::string::npos || equals == std::string::npos || dot == 0 || dot + 1 >= equals)
     throw UsageError("--set expects COMPONENT.PROPERTY=VALUE (or COMPONENT/SUBCOMPONENT.PROPERTY=VALUE), got '" +
                      assignment + "'");
-  std::vector<std::string> path;  // component, then subcomponents
-  std::stringstream parts(assignment.substr(0, dot));
+  // Component, then subcomponents, then the property: "C/SUB.P" and "C.SUB/P" (as
+  // `rbfmuscle info` lists a subcomponent's property) name the same one.
+  std::vector<std::string> path;
+  std::stringstream parts(assignment.substr(0, dot) + '/' + assignment.substr(dot + 1, equals - dot - 1));
   for (std::string part; std::getline(parts, part, '/');) path.push_back(part);
-  const std::string property = assignment.substr(dot + 1, equals - dot - 1);
+  const std::string property = path.back();
+  path.pop_back();
+  if (property.empty()) throw UsageError("--set: an empty property name in '" + assignment + "'");
   const std::string value = assignment.substr(equals + 1);
   const SourceLocation where{"command line", 0, "--set " + assignment};
 

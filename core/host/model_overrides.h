@@ -14,8 +14,9 @@
 namespace rbfmuscle {
 
 /// Sets (or adds) property PROPERTY of component COMPONENT to the text VALUE.
-/// `assignment` is "COMPONENT.PROPERTY=VALUE", or "COMPONENT/SUB.PROPERTY=VALUE" for a
-/// property of subcomponent SUB (subcomponent.h); names hold no '.' or '/', VALUE may be
+/// `assignment` is "COMPONENT.PROPERTY=VALUE", or "COMPONENT/SUB.PROPERTY=VALUE" (also
+/// written "COMPONENT.SUB/PROPERTY=VALUE", as `rbfmuscle info` lists it) for a property of
+/// subcomponent SUB (subcomponent.h); names hold no '.' or '/', VALUE may be
 /// empty and may contain '=', '.' and spaces. An unknown subcomponent is refused when the
 /// model is built, listing the component's.
 /// @throws UsageError when `assignment` is not of that form;

@@ -307,10 +307,11 @@ TEST(RBFMusclePlugin, AFormerPropertyNameIsRefusedListingTheCurrentOnes) {
 TEST(RBFMusclePlugin, StageSettingsAreSubcomponentsSetInTheFileOrOnTheCommandLine) {
   const fs::path dir = testDir("subcomponents");
   const fs::path model = writeModel(dir, kCachedGluteus);
-  // From the command line: 7 fibres of 4 segments, one fibre_length_mm column each.
+  // From the command line: 7 fibres of 4 segments, one fibre_length_mm column each; the count
+  // named as `rbfmuscle info` lists it.
   const HostResult r = test::runHost("run '" + model.string() + "' -o '" + (dir / "out").string() +
                                          "' --quiet --motion '" + (kHip / "motions/hip_flexion_0_80_step10.mot").string() +
-                                         "' --set glmax_r/fibres.count=7 --set glmax_r/fibres.segments=4",
+                                         "' --set glmax_r.fibres/count=7 --set glmax_r/fibres.segments=4",
                                      "plugin", "subcomponents");
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const StorageTable table = readStorage((dir / "out/outputs.sto").string());
