@@ -23,7 +23,7 @@ import tempfile
 import numpy as np
 
 from readme_section import replace_readme_section
-from run_outputs import read_outputs
+from run_outputs import read_outputs, stack_vector
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 HOST = os.path.join(ROOT, "build", "bin", "rbfmuscle")
@@ -57,8 +57,7 @@ def run_scene(scene, out_root):
     for m in muscles:
         volume = column(m + ".volume_ratio")
         fibre = column(m + ".fibre_length_ratio")
-        prefix = m + ".fibre_length_mm_"
-        lengths = np.array([columns[h] for h in columns if h.startswith(prefix)])  # fibres × frames
+        lengths = stack_vector(columns, m + ".fibre_length_mm")  # fibres × frames
         steps = np.abs(lengths[:, 1:] / lengths[:, :-1] - 1.0)
         figures.append({
             "muscle": m,

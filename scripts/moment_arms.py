@@ -24,7 +24,7 @@ import tempfile
 import numpy as np
 
 from readme_section import replace_readme_section
-from run_outputs import read_outputs
+from run_outputs import read_outputs, stack_vector
 
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
@@ -45,14 +45,14 @@ def run_scene(scene, coordinate, out_root, extra_sets=()):
     angle_deg = np.degrees(column(coordinate))
     result = {}
     for m in MUSCLES:
-        fibres = np.array([v for h, v in columns.items() if h.startswith(f"{m}.fibre_moment_arm_{coordinate}_mm_")]).T
+        fibres = stack_vector(columns, f"{m}.fibre_moment_arm_{coordinate}_mm").T  # frames × fibres
         result[m] = {
             "mean": column(f"{m}.moment_arm_{coordinate}_mm"),
             "fibres": fibres,
             "p10": np.percentile(fibres, 10, axis=1),
             "p90": np.percentile(fibres, 90, axis=1),
             "line": column(f"{m}.line_of_action_moment_arm_{coordinate}_mm"),
-            "length": np.array([v for h, v in columns.items() if h.startswith(f"{m}.fibre_length_mm_")]).mean(axis=0),
+            "length": stack_vector(columns, f"{m}.fibre_length_mm").mean(axis=0),
             "line_length": column(f"{m}.line_of_action_length_mm"),
         }
     return angle_deg, result

@@ -18,7 +18,7 @@ import xml.etree.ElementTree as ET
 import numpy as np
 
 from readme_section import replace_readme_section
-from run_outputs import read_outputs
+from run_outputs import read_outputs, stack_vector
 from scene_bones import out_of_argument
 
 ROOT = os.path.normpath(os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
@@ -59,7 +59,7 @@ def measure(out, name, args):
     o = read_outputs(run)
     cells = []
     for m in MUSCLES:
-        lengths = np.array([o[k] for k in o if k.startswith(m + ".fibre_length_mm_")])  # fibres × frames
+        lengths = stack_vector(o, m + ".fibre_length_mm")  # fibres × frames
         step = 100 * np.max(np.abs(np.diff(lengths, axis=1)) / lengths[:, :-1])
         cells.append(f"{o[m + '.fibre_length_ratio'][-1]:.3f} / {step:.2f} % / "
                      f"{o[m + '.moment_arm_hip_flexion_r_mm'][ARM_FRAME]:.1f}")

@@ -14,3 +14,12 @@ def read_outputs(out):
     header = rows[0]
     data = np.array([[float(x) for x in r] for r in rows[1:]], dtype=float).reshape(len(rows) - 1, len(header))
     return {name: data[:, k] for k, name in enumerate(header)}
+
+
+def stack_vector(columns, name):
+    """A vector output over the run, elements × frames: the columns NAME_0, NAME_1, … of
+    read_outputs, in element order."""
+    prefix = name + "_"
+    elements = sorted((int(h[len(prefix):]), h) for h in columns
+                      if h.startswith(prefix) and h[len(prefix):].isdigit())
+    return np.array([columns[h] for _, h in elements])

@@ -8,7 +8,7 @@ import statistics
 
 import numpy as np
 
-from run_outputs import read_outputs
+from run_outputs import read_outputs, stack_vector
 
 
 # ---- one run -----------------------------------------------------------------------------------
@@ -23,14 +23,14 @@ def measure(out, model, coordinate):
            "angle_deg": np.round(np.degrees(columns[coordinate]), 6), "muscles": {}}
     for m in model["muscles"]:
         n = m["name"]
-        fibres = sorted((int(k.rsplit("_", 1)[1]), k) for k in columns if k.startswith(f"{n}.fibre_length_mm_"))
+        fibres = stack_vector(columns, f"{n}.fibre_length_mm")  # fibres × frames
         update = reported.get(f"{n}.update_ms", {}).get("median")
         run["muscles"][n] = {
             "update_ms": update if update is not None else statistics.median(columns[f"{n}.update_ms"]),
             "volume_drift": float(np.nanmax(np.abs(columns[f"{n}.volume_ratio"] - 1.0))),
             "fibre_points_outside": float(np.nanmax(columns[f"{n}.fibre_points_outside"])),
             "fibre_ratio": columns[f"{n}.fibre_length_ratio"],
-            "fibre_mm": np.array([columns[k] for _, k in fibres]).T if fibres else np.zeros((summary["frames"], 0)),
+            "fibre_mm": fibres.T if len(fibres) else np.zeros((summary["frames"], 0)),
         }
     return run
 

@@ -145,6 +145,7 @@ def length_table(angle_deg, result, reference):
     """Each muscle's length change over the motion: ours, the line of action's, and the change that
     the published spread of arms implies (l(b) − l(a) = −∫ r dq), also as a ratio to our l(a)."""
     a, b = LENGTH_RANGE_DEG
+    q = np.radians(np.linspace(a, b, 161))
     lines = [f"Length change from {a}° to {b}° of flexion: the mean fibre length, the line of action's, "
              f"and the change the published spread of moment arms gives, l({b}°) − l({a}°) = −∫ r dq, also as a "
              "ratio to our fibres' mean length at rest. A line of action's length is its own path's: "
@@ -154,16 +155,14 @@ def length_table(angle_deg, result, reference):
              f"| l({b}°) − l({a}°) by the published arms (mm) | the ratio they give our fibres |",
              "|---|---|---|---|---|"]
     for m in MUSCLES:
-        cells = []
-        for key in ("length", "line_length"):
-            l_a, l_b = at(a, angle_deg, result[m][key]), at(b, angle_deg, result[m][key])
-            cells.append(f"{l_a:.0f}, {l_b - l_a:+.1f}, {l_b / l_a:.3f}")
-        ours_a = at(a, angle_deg, result[m]["length"])
+        ends = {key: (at(a, angle_deg, result[m][key]), at(b, angle_deg, result[m][key]))
+                for key in ("length", "line_length")}
+        cells = [f"{l_a:.0f}, {l_b - l_a:+.1f}, {l_b / l_a:.3f}" for l_a, l_b in ends.values()]
+        ours_a = ends["length"][0]
         published, ratios = [], []
         for name, angles, low, high in reference[m]["spread"]:
             if angles[0] > a + DIGITISED_END_DEG or angles[-1] < b - DIGITISED_END_DEG:
                 continue
-            q = np.radians(np.linspace(a, b, 161))
             changes = sorted(-np.trapz(np.interp(np.degrees(q), angles, bound), q) for bound in (low, high))
             published.append(f"{changes[0]:+.1f} to {changes[1]:+.1f} ({name})")
             ratios.append(f"{1 + changes[0] / ours_a:.3f} to {1 + changes[1] / ours_a:.3f}")
