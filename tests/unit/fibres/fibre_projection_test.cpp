@@ -206,6 +206,20 @@ TEST(AdvanceInside, StopsWhereTheSegmentFirstLeavesTheMuscle) {
   EXPECT_LT((a - b).norm(), 0.01);
 }
 
+TEST(AdvanceInside, AStartJustBelowTheMarginMovesAsOneJustAboveIt) {
+  const TwoBalls balls;
+  const ProjectionSettings settings;  // margin 0.5
+  // Starts at f = 0.5 ± 1e-9 (x = 9.5 ∓ 1e-9), heading through the ball: both cross it to
+  // where f falls back to about the margin on the far side (x = −9.5).
+  const Eigen::Vector3d to(-20, 0, 0);
+  const Eigen::Vector3d above = advanceInside(balls, settings, Eigen::Vector3d(9.5 - 1e-9, 0, 0), to);
+  const Eigen::Vector3d below = advanceInside(balls, settings, Eigen::Vector3d(9.5 + 1e-9, 0, 0), to);
+  EXPECT_NEAR(above.x(), -9.5, 1.0 / 64);
+  EXPECT_LT((above - below).norm(), 0.01);
+  // Outside the muscle (f ≤ 0) it stays.
+  EXPECT_EQ(advanceInside(balls, settings, Eigen::Vector3d(10.5, 0, 0), to), Eigen::Vector3d(10.5, 0, 0));
+}
+
 TEST(ClimbByPatternSearch, APointJustOutsideClimbsIntoTheNearerPartByAboutAStep) {
   const TwoBalls balls;  // no gradient: projectInside cannot move a point outside
   const ProjectionSettings settings;  // steps of 1 mm
