@@ -9,6 +9,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 namespace rbfmuscle {
@@ -72,21 +73,72 @@ Eigen::VectorXd calcStringDistances(const Eigen::Matrix2Xd& points) {
   return s;
 }
 
+Eigen::VectorXd calcStringSags(const Eigen::Matrix2Xd& points) {
+  if (!points.allFinite()) throw std::invalid_argument("calcStringSags: the points must be finite");
+  const Eigen::Index m = points.cols();
+  std::vector<Eigen::Vector2d> all(static_cast<size_t>(m) + 1, Eigen::Vector2d::Zero());
+  for (Eigen::Index j = 0; j < m; ++j) all[static_cast<size_t>(j)] = points.col(j);
+  const std::vector<Eigen::Vector2d> hull = findHull(all);
+  Eigen::VectorXd sags = Eigen::VectorXd::Zero(m);
+  if (hull.size() < 3) return sags;
+  for (Eigen::Index j = 0; j < m; ++j) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (size_t e = 0; e < hull.size(); ++e) {
+      const Eigen::Vector2d a = hull[e], b = hull[(e + 1) % hull.size()];
+      if (a.isZero(0.0) || b.isZero(0.0)) continue;  // a side through the axis: not the string
+      const Eigen::Vector2d ab = b - a;
+      const double t = std::clamp((points.col(j) - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+      nearest = std::min(nearest, (a + t * ab - points.col(j)).norm());
+    }
+    if (std::isfinite(nearest)) sags[j] = nearest;
+  }
+  return sags;
+}
+
+namespace {
+
+/// A fibre now and at rest seen along the axis (2-D, about the centre), with the plane's basis.
+struct AxisView {
+  Eigen::Matrix<double, 2, 3> basis;
+  Eigen::Matrix2Xd now, rest;
+};
+
+AxisView viewAlongAxis(const char* what, const Eigen::Matrix3Xd& now_mm, const Eigen::Matrix3Xd& rest_mm,
+                       const Eigen::Vector3d& centre_mm, const Eigen::Vector3d& axis, double fade_mm) {
+  if (now_mm.cols() != rest_mm.cols())
+    throw std::invalid_argument(std::string(what) + ": the points now and at rest differ in number");
+  if (!(std::abs(axis.norm() - 1.0) < 1e-9) || !(fade_mm > 0.0) || !centre_mm.allFinite())
+    throw std::invalid_argument(std::string(what) + ": need a unit axis, a finite centre and fade_mm > 0");
+  const Eigen::Matrix<double, 2, 3> basis = planeBasis(axis);
+  return AxisView{basis, basis * (now_mm.colwise() - centre_mm), basis * (rest_mm.colwise() - centre_mm)};
+}
+
+}  // namespace
+
+Eigen::Matrix3Xd calcSagRisesSinceRest(const Eigen::Matrix3Xd& now_mm, const Eigen::Matrix3Xd& rest_mm,
+                                       const Eigen::Vector3d& centre_mm, const Eigen::Vector3d& axis, double fade_mm) {
+  const AxisView view = viewAlongAxis("calcSagRisesSinceRest", now_mm, rest_mm, centre_mm, axis, fade_mm);
+  const Eigen::VectorXd sags = calcStringSags(view.now), sags0 = calcStringSags(view.rest);
+  Eigen::Matrix3Xd rises = Eigen::Matrix3Xd::Zero(3, now_mm.cols());
+  for (Eigen::Index j = 0; j < now_mm.cols(); ++j) {
+    const double r = view.now.col(j).norm();
+    if (!(r > 0.0) || !(sags[j] > sags0[j])) continue;
+    rises.col(j) = calcSmoothstep(r / fade_mm) * (sags[j] - sags0[j]) / r * (view.basis.transpose() * view.now.col(j));
+  }
+  return rises;
+}
+
 Eigen::Matrix3Xd calcLiftOffRisesSinceRest(const Eigen::Matrix3Xd& now_mm, const Eigen::Matrix3Xd& rest_mm,
                                            const Eigen::Vector3d& centre_mm, const Eigen::Vector3d& axis,
                                            double fade_mm) {
-  if (now_mm.cols() != rest_mm.cols())
-    throw std::invalid_argument("calcLiftOffRisesSinceRest: the string now and at rest differ in points");
-  if (!(std::abs(axis.norm() - 1.0) < 1e-9) || !(fade_mm > 0.0) || !centre_mm.allFinite())
-    throw std::invalid_argument("calcLiftOffRisesSinceRest: need a unit axis, a finite centre and fade_mm > 0");
-  const Eigen::Matrix<double, 2, 3> basis = planeBasis(axis);
-  const Eigen::Matrix2Xd now = basis * (now_mm.colwise() - centre_mm), rest = basis * (rest_mm.colwise() - centre_mm);
-  const Eigen::VectorXd s = calcStringDistances(now), s0 = calcStringDistances(rest);
+  const AxisView view = viewAlongAxis("calcLiftOffRisesSinceRest", now_mm, rest_mm, centre_mm, axis, fade_mm);
+  const Eigen::VectorXd s = calcStringDistances(view.now), s0 = calcStringDistances(view.rest);
   Eigen::Matrix3Xd rises = Eigen::Matrix3Xd::Zero(3, now_mm.cols());
   for (Eigen::Index j = 0; j < now_mm.cols(); ++j) {
-    const double r = now.col(j).norm();
+    const double r = view.now.col(j).norm();
     if (!(r > 0.0) || !(s0[j] > 0.0) || !(s[j] > s0[j])) continue;
-    rises.col(j) = calcSmoothstep(s0[j] / fade_mm) * (s[j] - s0[j]) / r * (basis.transpose() * now.col(j));  // s − s₀ along the ray
+    rises.col(j) = calcSmoothstep(s0[j] / fade_mm) * (s[j] - s0[j]) / r *
+                   (view.basis.transpose() * view.now.col(j));  // s − s₀ along the ray
   }
   return rises;
 }

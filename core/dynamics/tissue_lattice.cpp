@@ -189,9 +189,8 @@ double TissueLattice::setLiftOffGuides(const Eigen::Matrix3Xd& fibre_points_mm, 
 }
 
 void TissueLattice::liftOff() {
-  const Eigen::AngleAxisd turn(motions_[1].linear() * motions_[0].linear().transpose());
-  if (!(turn.angle() > 0.0)) return;
-  const Eigen::Vector3d centre = motions_[0] * *settings_.joint_centre_mm;
+  const std::optional<JointTurn> turn = getJointTurn();
+  if (!turn) return;
   Eigen::Matrix3Xd now;
   carryPoints(guides_, nodes_mm_, now, nullptr);
   const Eigen::Matrix3Xd rest = motions_[0] * guides_.rest_mm;  // the rest fibres, seen from the origin bone
@@ -200,19 +199,9 @@ void TissueLattice::liftOff() {
   Eigen::VectorXd shares = Eigen::VectorXd::Zero(k);
   for (size_t f = 0; f < string_starts_.size(); ++f) {
     const int first = static_cast<int>(f) * p + string_starts_[f], count = (static_cast<int>(f) + 1) * p - first;
-    const Eigen::Matrix3Xd string_rises =
-        calcLiftOffRisesSinceRest(now.middleCols(first, count), rest.middleCols(first, count), centre,
-                                  turn.axis().normalized(), cell_mm_);
-    for (int i = 0; i < count; ++i) {
-      const size_t j = static_cast<size_t>(first + i);
-      if (guides_.rigid_bone[j] >= 0) continue;
-      for (int corner = 0; corner < 8; ++corner) {
-        const double w = calcCornerWeight(corner, guides_.local.col(first + i));
-        const int node = guides_.corners[j][static_cast<size_t>(corner)];
-        rises.col(node) += w * string_rises.col(i);
-        shares[node] += w;
-      }
-    }
+    const Eigen::Matrix3Xd string_rises = calcLiftOffRisesSinceRest(
+        now.middleCols(first, count), rest.middleCols(first, count), turn->centre_mm, turn->axis, cell_mm_);
+    for (int i = 0; i < count; ++i) addToNodes(guides_, first + i, string_rises.col(i), rises, shares);
   }
   // Each node takes the mean rise of the guide points in its cells, then the rises are smoothed,
   // so they fade towards the muscle's edge and its thin parts, where few guides pass.
@@ -222,6 +211,46 @@ void TissueLattice::liftOff() {
   for (int n = 0; n < k; ++n) rises.col(n) *= lift_fraction_ * node_freedoms_[n];
   nodes_mm_ += rises;
   lift_max_mm_ = rises.colwise().norm().maxCoeff();
+}
+
+std::optional<JointTurn> TissueLattice::getJointTurn() const {
+  if (num_bones_ != 2 || !settings_.joint_centre_mm) return std::nullopt;
+  const Eigen::AngleAxisd turn(motions_[1].linear() * motions_[0].linear().transpose());
+  if (!(turn.angle() > 0.0)) return std::nullopt;
+  return JointTurn{motions_[0] * *settings_.joint_centre_mm, turn.axis().normalized()};
+}
+
+void TissueLattice::addToNodes(const LatticeBinding& points, int j, const Eigen::Vector3d& value,
+                               Eigen::Matrix3Xd& sums, Eigen::VectorXd& shares) const {
+  const size_t jj = static_cast<size_t>(j);
+  if (points.rigid_bone[jj] >= 0) return;
+  for (int corner = 0; corner < 8; ++corner) {
+    const double w = calcCornerWeight(corner, points.local.col(j));
+    const int node = points.corners[jj][static_cast<size_t>(corner)];
+    sums.col(node) += w * value;
+    shares[node] += w;
+  }
+}
+
+Eigen::Matrix3Xd TissueLattice::spreadLikeRises(const LatticeBinding& points, const Eigen::Matrix3Xd& vectors) const {
+  if (vectors.cols() != points.size())
+    throw std::invalid_argument("TissueLattice::spreadLikeRises: " + std::to_string(vectors.cols()) + " vectors for " +
+                                std::to_string(points.size()) + " points");
+  const int k = countNodes();
+  Eigen::Matrix3Xd at_nodes = Eigen::Matrix3Xd::Zero(3, k);
+  Eigen::VectorXd shares = Eigen::VectorXd::Zero(k);
+  for (int j = 0; j < points.size(); ++j) addToNodes(points, j, vectors.col(j), at_nodes, shares);
+  for (int n = 0; n < k; ++n)
+    if (shares[n] > 0.0) at_nodes.col(n) /= shares[n];
+  smooth(at_nodes, scalePasses(settings_.lift_passes));
+  Eigen::Matrix3Xd out = Eigen::Matrix3Xd::Zero(3, points.size());
+  for (int j = 0; j < points.size(); ++j) {
+    const size_t jj = static_cast<size_t>(j);
+    if (points.rigid_bone[jj] >= 0) continue;
+    for (int corner = 0; corner < 8; ++corner)
+      out.col(j) += calcCornerWeight(corner, points.local.col(j)) * at_nodes.col(points.corners[jj][static_cast<size_t>(corner)]);
+  }
+  return out;
 }
 
 void TissueLattice::smooth(Eigen::Matrix3Xd& vectors, int passes) const {

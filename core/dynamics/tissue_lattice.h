@@ -71,6 +71,12 @@ struct LatticeBinding {
   int size() const { return static_cast<int>(rest_mm.cols()); }
 };
 
+/// A joint's turn: its centre (M, mm) and the unit axis it turns about.
+struct JointTurn {
+  Eigen::Vector3d centre_mm;
+  Eigen::Vector3d axis;
+};
+
 /// Settings of TissueLattice.
 struct LatticeSettings {
   double blend_length_mm = 1.0;  ///< ℓ of the blend weights (mm), > 0
@@ -147,6 +153,14 @@ class TissueLattice {
   double getLiftFraction() const { return lift_fraction_; }
   /// The largest rise of a node in the last update (mm).
   double getLiftMax() const { return lift_max_mm_; }
+  /// The joint's turn in the last update: its centre now (M, mm) and the unit axis of bone 1's
+  /// turn from bone 0's; none without two bones, a joint centre and a turn.
+  std::optional<JointTurn> getJointTurn() const;
+  /// Per-point vectors of bound points (3×P, such as rises) spread over the lattice as step 5
+  /// spreads its rises: each node takes their mean over the points in its cells, lift_passes
+  /// Laplacian passes smooth them, and each point takes its cell's interpolant (0 where tied to a bone).
+  /// @throws std::invalid_argument when the sizes differ.
+  Eigen::Matrix3Xd spreadLikeRises(const LatticeBinding& points, const Eigen::Matrix3Xd& vectors) const;
 
   /// Lattice coordinates → whether node (i, j, k) is active, and its index.
   int findNode(const Eigen::Vector3i& ijk) const;
@@ -180,6 +194,9 @@ class TissueLattice {
   int scalePasses(int passes) const;
   /// Step 5: raises nodes_mm_ by the lift fraction times the guides' spread rises.
   void liftOff();
+  /// Adds `value` at bound point j to its cell's nodes by the trilinear weights (sums and shares).
+  void addToNodes(const LatticeBinding& points, int j, const Eigen::Vector3d& value, Eigen::Matrix3Xd& sums,
+                  Eigen::VectorXd& shares) const;
 
   int num_bones_ = 0;
   LatticeSettings settings_;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: Apache-2.0
 #include "pipeline/fibre_stage.h"
 
+#include "dynamics/joint_lift_off.h"
 #include "fibres/fibre_projection.h"
 #include "rbf/parallel_blocks.h"
 
@@ -28,7 +29,7 @@ FibreStage::FibreStage(std::shared_ptr<TissueLattice> lattice, RestFibres rest, 
   lengths_mm_ = rest_.lengths_mm;
 }
 
-void FibreStage::run(MuscleState& state, const FrameInput&) {
+void FibreStage::run(MuscleState& state, const FrameInput& input) {
   Eigen::Matrix3Xd& points = state.fibre_points_mm;
   lattice_->carry(binding_, points);
   lattice_->carry(attachment_binding_, state.fibre_attachments_mm);
@@ -102,11 +103,39 @@ void FibreStage::run(MuscleState& state, const FrameInput&) {
                                                 static_cast<double>(j - a) / (b - a), p);
       points.col(c) = p;
     }
+  // 3. A shortened muscle's fibres lift off the joint towards their strings, within the muscle.
+  const double lift_move = liftOff(state, input, whole);
   calcFibreLengths(points, segments, state.fibre_attachments_mm, lengths_mm_);
   const double mean = lengths_mm_.mean();
   report_ = Report{mean, lengths_mm_.minCoeff(), lengths_mm_.maxCoeff(), mean / rest_mean_mm_,
                    static_cast<double>(projected), static_cast<double>((values_.array() <= 0.0).count()), end_offset,
-                   taut_fraction, taut_move};
+                   taut_fraction, taut_move, lift_move};
+}
+
+double FibreStage::liftOff(MuscleState& state, const FrameInput& input, const ImplicitField& muscle) {
+  const double fraction = lattice_->getLiftFraction();
+  const std::optional<JointTurn> turn = lattice_->getJointTurn();
+  if (!(fraction > 0.0) || !turn) return 0.0;
+  Eigen::Matrix3Xd& points = state.fibre_points_mm;
+  const int per = rest_.segments + 1;
+  const Eigen::Matrix3Xd rest = input.bone_motion_M[0] * rest_.points_mm;  // the rest fibres, seen from the origin bone
+  Eigen::Matrix3Xd rises(3, points.cols());
+  for (Eigen::Index first = 0; first < points.cols(); first += per)
+    rises.middleCols(first, per) = calcSagRisesSinceRest(points.middleCols(first, per), rest.middleCols(first, per),
+                                                         turn->centre_mm, turn->axis, lattice_->getCellSize());
+  rises = lattice_->spreadLikeRises(binding_, rises);
+  const long count = static_cast<long>(points.cols());
+  moves_mm_.setZero(count);
+  forEachBlock(count, kBlock, [&](long begin, long end) {
+    for (long c = begin; c < end; ++c) {
+      const int j = static_cast<int>(c % per);
+      if (j == 0 || j == rest_.segments) continue;
+      const Eigen::Vector3d p = advanceInside(muscle, projection_, points.col(c), points.col(c) + fraction * rises.col(c));
+      moves_mm_[c] = (p - points.col(c)).norm();
+      points.col(c) = p;
+    }
+  });
+  return count > 0 ? moves_mm_.maxCoeff() : 0.0;
 }
 
 }  // namespace rbfmuscle

@@ -21,7 +21,11 @@ namespace rbfmuscle {
 /// lies on a bone, a fibre point the map carried into the bone comes out along the bone's
 /// surface, so the fibres slide over the bone rather than follow the map into it. An interior
 /// point the ascent leaves outside climbs on by a pattern search, else is placed between the
-/// nearest inside points of its fibre. Reports the lengths.
+/// nearest inside points of its fibre. Where the muscle is shortened, a fibre the map carries
+/// round the joint sags below its string, the taut line over the joint (joint_lift_off.h), more
+/// than it did at rest: each interior point rises away from the joint's axis by the difference,
+/// spread over the lattice as the tissue's rises are and scaled by the lift fraction
+/// (tissue_lattice.h, step 5), as far as the muscle allows. Reports the lengths.
 class FibreStage final : public FrameStage {
  public:
   /// @param rest the rest fibres (M, mm)  @param rest_field the rest field (point lists)
@@ -32,7 +36,7 @@ class FibreStage final : public FrameStage {
   struct Report {
     double mean_mm = kNaN, min_mm = kNaN, max_mm = kNaN, ratio = kNaN;
     double projected = kNaN, outside = kNaN, end_offset_max_mm = kNaN;
-    double taut_fraction = kNaN, taut_move_max_mm = kNaN;
+    double taut_fraction = kNaN, taut_move_max_mm = kNaN, lift_move_max_mm = kNaN;
   };
   static constexpr ReportEntry<Report> kReport[] = {
       {"fibre_length_mean_mm", "mm", "mean fibre length", &Report::mean_mm},
@@ -47,6 +51,8 @@ class FibreStage final : public FrameStage {
       {"fibre_taut_fraction", "1", "how far the fibres go from the blend's arcs to its chords (0: a muscle not stretched)",
        &Report::taut_fraction},
       {"fibre_taut_move_max_mm", "mm", "largest move of a fibre point towards its chord", &Report::taut_move_max_mm},
+      {"fibre_lift_move_max_mm", "mm", "largest move of a fibre point of a shortened muscle back out towards its string",
+       &Report::lift_move_max_mm},
   };
 
   void run(MuscleState& state, const FrameInput& input) override;
@@ -65,9 +71,13 @@ class FibreStage final : public FrameStage {
   NeighbourLists lists_;
   double rest_mean_mm_ = 0.0;
   static constexpr long kBlock = 64;  ///< fibre points per shared block (parallel_blocks.h)
+  /// Step 3 (fibre_stage.cpp): moves the interior fibre points out towards their strings
+  /// within `muscle`; returns the largest move (mm).
+  double liftOff(MuscleState& state, const FrameInput& input, const ImplicitField& muscle);
+
   Eigen::Matrix3Xd taut_mm_;
   Eigen::VectorXd values_, lengths_mm_;
-  Eigen::VectorXd moves_mm_;  ///< per point: the taut move, then an end's projection move (mm)
+  Eigen::VectorXd moves_mm_;  ///< per point: the taut move, then an end's projection move, then the lift's (mm)
   Eigen::VectorXi steps_;     ///< per point: the projection's ascent steps
   Report report_;
 };

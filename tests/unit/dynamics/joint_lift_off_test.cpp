@@ -1,5 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
-// Lift-off: a string's distance from the axis is its hull's, and a shortened string rises to it.
+// Lift-off: a string's distance from the axis is its hull's, and a shortened string rises to it;
+// a fibre's sag below its string, and a fibre that sags more than at rest rises by the difference.
 #include "dynamics/joint_lift_off.h"
 
 #include <Eigen/Geometry>
@@ -101,6 +102,70 @@ TEST(LiftOffRises, FadeNearTheAxisAndRefuseBadInput) {
                std::invalid_argument);
   EXPECT_THROW(calcLiftOffRisesSinceRest(now, drum.rest(), Eigen::Vector3d::Zero(), axis, 0.0), std::invalid_argument);
   EXPECT_THROW(calcLiftOffRisesSinceRest(now.leftCols(2), drum.rest(), Eigen::Vector3d::Zero(), axis, 1.0),
+               std::invalid_argument);
+}
+
+TEST(StringSags, ADentSagsByItsDistanceToItsStringAndNoFurtherThanItMoves) {
+  Eigen::Matrix2Xd points(2, 3);
+  points << -10, 0, 10,  //
+            10, 5, 10;
+  const Eigen::VectorXd sags = calcStringSags(points);
+  EXPECT_NEAR(sags[0], 0.0, 1e-12);
+  EXPECT_NEAR(sags[1], 5.0, 1e-12) << "below the line y = 10 between the ends";
+  EXPECT_NEAR(sags[2], 0.0, 1e-12);
+  Eigen::Matrix2Xd moved = points;
+  moved.col(1) += Eigen::Vector2d(3.0, 0.4);
+  EXPECT_LE(std::abs(calcStringSags(moved)[1] - sags[1]), 0.5 + 1e-12) << "a distance: 1-Lipschitz in the point";
+}
+
+TEST(StringSags, AFibreOnItsStringOrAlongARayDoesNotSag) {
+  Eigen::Matrix2Xd wound(2, 7);
+  for (int j = 0; j < 7; ++j) wound.col(j) = polar(12.0, 0.6 * j).head<2>();  // more than half a turn
+  EXPECT_LT(calcStringSags(wound).cwiseAbs().maxCoeff(), 1e-9);
+  // Points on a line through the axis have no string: nothing sags.
+  Eigen::Matrix2Xd radial(2, 3);
+  radial << 1, 3, 2,  //
+            1, 3, 2;
+  EXPECT_EQ(calcStringSags(radial), Eigen::VectorXd::Zero(3));
+  radial(0, 1) = std::nan("");
+  EXPECT_THROW(calcStringSags(radial), std::invalid_argument);
+}
+
+TEST(SagRises, AFibreSaggingMoreThanAtRestRisesByTheDifference) {
+  const Drum drum;  // its middle lies on the line between its ends at rest: no sag
+  const double theta = 0.7;
+  const Eigen::Matrix3Xd now = drum.shortened(theta);
+  const Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  const Eigen::Matrix3Xd rises = calcSagRisesSinceRest(now, drum.rest(), Eigen::Vector3d::Zero(), axis, 1.0);
+  // The middle lies on the normal of its ends' chord through the axis, so it rises onto the chord.
+  const double string_mm = drum.end_radius * std::cos(0.5 * (M_PI - 2.0 * drum.end_angle - theta));
+  const Eigen::Vector3d lifted = now.col(1) + rises.col(1);
+  EXPECT_NEAR(lifted.head<2>().norm(), string_mm, 1e-9);
+  EXPECT_NEAR(lifted.z(), 3.0, 1e-12) << "straight away from the axis";
+  EXPECT_NEAR(std::atan2(lifted.y(), lifted.x()), M_PI / 2 + theta / 2, 1e-12);
+  EXPECT_NEAR(rises.col(0).norm() + rises.col(2).norm(), 0.0, 1e-12) << "the ends lie on the string";
+  // A fibre that sagged 2 mm at rest rises by its sag beyond that.
+  Eigen::Matrix3Xd dented = drum.rest();
+  dented(1, 1) -= 2.0;
+  const Eigen::Matrix3Xd from_dented = calcSagRisesSinceRest(now, dented, Eigen::Vector3d::Zero(), axis, 1.0);
+  EXPECT_NEAR(from_dented.col(1).norm(), rises.col(1).norm() - 2.0, 1e-9);
+  // Turned about the axis, a fibre sags as at rest, and one that sags less does not sink.
+  const Eigen::Matrix3Xd turned = Eigen::AngleAxisd(1.1, axis).toRotationMatrix() * dented;
+  EXPECT_LT(calcSagRisesSinceRest(turned, dented, Eigen::Vector3d::Zero(), axis, 1.0).norm(), 1e-12);
+  EXPECT_EQ(calcSagRisesSinceRest(drum.rest(), dented, Eigen::Vector3d::Zero(), axis, 1.0).norm(), 0.0);
+}
+
+TEST(SagRises, FadeNearTheAxisAndRefuseBadInput) {
+  const Drum drum;
+  const Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  const Eigen::Matrix3Xd now = drum.shortened(0.7);
+  const double full = calcSagRisesSinceRest(now, drum.rest(), Eigen::Vector3d::Zero(), axis, 1.0).col(1).norm();
+  // The middle lies 10 mm from the axis: a fade of 20 mm scales its rise by smoothstep(½) = ½.
+  EXPECT_NEAR(calcSagRisesSinceRest(now, drum.rest(), Eigen::Vector3d::Zero(), axis, 20.0).col(1).norm(), 0.5 * full,
+              1e-12);
+  EXPECT_THROW(calcSagRisesSinceRest(now, drum.rest(), Eigen::Vector3d::Zero(), 2.0 * axis, 1.0), std::invalid_argument);
+  EXPECT_THROW(calcSagRisesSinceRest(now, drum.rest(), Eigen::Vector3d::Zero(), axis, 0.0), std::invalid_argument);
+  EXPECT_THROW(calcSagRisesSinceRest(now.leftCols(2), drum.rest(), Eigen::Vector3d::Zero(), axis, 1.0),
                std::invalid_argument);
 }
 

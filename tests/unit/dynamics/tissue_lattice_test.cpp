@@ -338,6 +338,43 @@ TEST(TissueLattice, AShortenedRodLiftsOffTheJointTowardsItsStrings) {
   EXPECT_LE(lifted.getLiftMax(), lifted.getLiftFraction() * guide_max + 1e-9) << "never beyond its strings";
 }
 
+TEST(TissueLattice, TheJointTurnsWithTheInsertionBoneFromTheOriginBone) {
+  const Rod rod;
+  TissueLattice lattice = makeRodLatticeByAngle(rod);
+  EXPECT_FALSE(lattice.getJointTurn()) << "no turn at rest";
+  const Eigen::Isometry3d shift(Eigen::Translation3d(5.0, -2.0, 7.0));
+  lattice.update({shift, shift * test::makeRotationAbout(kRodJoint, Eigen::Vector3d::UnitZ(), 0.5)});
+  const std::optional<JointTurn> turn = lattice.getJointTurn();
+  ASSERT_TRUE(turn);
+  EXPECT_LT((turn->centre_mm - shift * kRodJoint).norm(), 1e-12) << "the centre moves with the origin bone";
+  EXPECT_LT((turn->axis - Eigen::Vector3d::UnitZ()).norm(), 1e-12);
+  EXPECT_FALSE(makeLattice(rod, true).getJointTurn()) << "no joint centre";
+}
+
+TEST(TissueLattice, VectorsSpreadLikeTheRisesAreAveragesOfTheirNeighbours) {
+  const Rod rod;
+  const TissueLattice lattice = makeRodLatticeByAngle(rod);
+  const Eigen::Matrix3Xd fibres = makeRodFibres();
+  std::vector<int> ties(kRodGuidePoints, -1);
+  ties[0] = 0;
+  const LatticeBinding points = lattice.bind(fibres, ties);
+  // The same vector everywhere: each point gets it scaled by at most 1 (nodes no fibre reaches
+  // count 0), and the middle of the rod nearly all of it.
+  const Eigen::Vector3d up(0.0, 3.0, 0.0);
+  const Eigen::Matrix3Xd spread = lattice.spreadLikeRises(points, up.replicate(1, kRodGuidePoints));
+  EXPECT_EQ(spread.col(0), Eigen::Vector3d::Zero()) << "a point tied to a bone";
+  for (int j = 1; j < kRodGuidePoints; ++j) {
+    EXPECT_LT((spread.col(j) - spread.col(j).dot(up) / up.squaredNorm() * up).norm(), 1e-12);
+    EXPECT_LE(spread.col(j).norm(), up.norm() + 1e-12);
+  }
+  const int middle = (kRodFibres / 2) * kRodFibrePoints + kRodFibrePoints / 2;
+  EXPECT_NEAR(fibres.col(middle).norm(), 0.0, 1e-12);
+  EXPECT_GT(spread.col(middle).norm(), 0.5 * up.norm());
+  // Linear in the vectors, and sizes must match.
+  EXPECT_LT((lattice.spreadLikeRises(points, -2.0 * up.replicate(1, kRodGuidePoints)) + 2.0 * spread).norm(), 1e-9);
+  EXPECT_THROW(lattice.spreadLikeRises(points, up.replicate(1, 3)), std::invalid_argument);
+}
+
 TEST(TissueLattice, ARodLyingOnItsOriginBoneIsHeldWhereItLeavesItAndLiftsLess) {
   const Rod rod;
   const Eigen::Vector3d& joint = kRodJoint;

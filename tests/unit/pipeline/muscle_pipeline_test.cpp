@@ -5,6 +5,7 @@
 
 #include "../dynamics/dynamics_test_shapes.h"
 #include "collision/bone_distance_grid.h"
+#include "dynamics/joint_lift_off.h"
 #include "geometry/iso_surface.h"
 #include "geometry/mesh_measures.h"
 
@@ -188,6 +189,45 @@ TEST(MusclePipeline, TrackedVerticesPushedIntoABoneGoOntoItsFaceTowardsTheMuscle
   EXPECT_GT(on_top, 4) << "tracked vertices on the ridge's top";
   // The rest surface's edges are at most a cell diagonal (2 mm cells): nothing stretches across the ridge.
   EXPECT_LT(longest_edge_mm, 2.0 * std::sqrt(3.0) + 0.5);
+}
+
+/// The rod's fibres after its insertion bone turned by 0.5 rad about a joint 30 mm below its
+/// middle, which shortens it, lifting off the joint or not; and how far each fibre sags below its
+/// string then beyond its rest sag, seen along the turn axis (max over its points, mm).
+struct ShortenedRod {
+  Eigen::Matrix3Xd fibres;
+  Eigen::VectorXd sag_beyond_rest_mm;
+  double lift_move_max_mm = 0.0, outside = 0.0;
+};
+ShortenedRod shortenRod(bool lift_off) {
+  const Eigen::Vector3d joint(0, -30, 0);
+  PipelineSettings settings = fewFibres();
+  settings.lattice.joint_centre_mm = joint;
+  settings.lift_off = lift_off;
+  MusclePipeline pipeline(makeRod(), settings);
+  FrameInput input;
+  input.bone_motion_M = {Eigen::Isometry3d::Identity(), test::makeRotationAbout(joint, Eigen::Vector3d::UnitZ(), 0.5)};
+  pipeline.run(input);
+  ShortenedRod out{pipeline.getState().fibre_points_mm, Eigen::VectorXd(settings.fibres),
+                   reportValue(pipeline, "fibre_lift_move_max_mm"), reportValue(pipeline, "fibre_points_outside")};
+  const Eigen::Matrix3Xd& rest = pipeline.getRestFibres()->points_mm;
+  const int per = settings.fibre_segments + 1;
+  const auto flat = [&](const Eigen::Matrix3Xd& points) { return Eigen::Matrix2Xd((points.colwise() - joint).topRows(2)); };
+  for (int f = 0; f < settings.fibres; ++f)
+    out.sag_beyond_rest_mm[f] = (calcStringSags(flat(out.fibres.middleCols(f * per, per))) -
+                                 calcStringSags(flat(rest.middleCols(f * per, per))))
+                                    .maxCoeff();
+  return out;
+}
+
+TEST(MusclePipeline, AShortenedRodsFibresRiseTowardsTheirStringsInsideIt) {
+  const ShortenedRod on_arcs = shortenRod(false), lifted = shortenRod(true);
+  EXPECT_EQ(on_arcs.lift_move_max_mm, 0.0);
+  EXPECT_GT(lifted.lift_move_max_mm, 0.5);
+  EXPECT_EQ(lifted.outside, 0.0) << "as far as the muscle allows";
+  ASSERT_GT(on_arcs.sag_beyond_rest_mm.maxCoeff(), 1.0) << "the map winds the fibres round the joint";
+  for (Eigen::Index f = 0; f < lifted.sag_beyond_rest_mm.size(); ++f)
+    EXPECT_LT(lifted.sag_beyond_rest_mm[f], on_arcs.sag_beyond_rest_mm[f] - 0.5) << "fibre " << f;
 }
 
 }  // namespace
