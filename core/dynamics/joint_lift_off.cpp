@@ -37,6 +37,15 @@ std::vector<Eigen::Vector2d> findHull(std::vector<Eigen::Vector2d> p) {
   return hull;
 }
 
+/// The convex hull of 2-D points (2×m) and the origin, the axis they are seen along.
+/// @throws std::invalid_argument for non-finite points, naming `what`.
+std::vector<Eigen::Vector2d> findHullWithAxis(const Eigen::Matrix2Xd& points, const char* what) {
+  if (!points.allFinite()) throw std::invalid_argument(std::string(what) + ": the points must be finite");
+  std::vector<Eigen::Vector2d> all(static_cast<size_t>(points.cols()) + 1, Eigen::Vector2d::Zero());
+  for (Eigen::Index j = 0; j < points.cols(); ++j) all[static_cast<size_t>(j)] = points.col(j);
+  return findHull(all);
+}
+
 Eigen::Matrix<double, 2, 3> planeBasis(const Eigen::Vector3d& axis) {
   const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
   Eigen::Matrix<double, 2, 3> basis;
@@ -48,11 +57,8 @@ Eigen::Matrix<double, 2, 3> planeBasis(const Eigen::Vector3d& axis) {
 }  // namespace
 
 Eigen::VectorXd calcStringDistances(const Eigen::Matrix2Xd& points) {
-  if (!points.allFinite()) throw std::invalid_argument("calcStringDistances: the points must be finite");
+  const std::vector<Eigen::Vector2d> hull = findHullWithAxis(points, "calcStringDistances");
   const Eigen::Index m = points.cols();
-  std::vector<Eigen::Vector2d> all(static_cast<size_t>(m) + 1, Eigen::Vector2d::Zero());
-  for (Eigen::Index j = 0; j < m; ++j) all[static_cast<size_t>(j)] = points.col(j);
-  const std::vector<Eigen::Vector2d> hull = findHull(all);
   Eigen::VectorXd s(m);
   for (Eigen::Index j = 0; j < m; ++j) {
     const double r = points.col(j).norm();
@@ -74,11 +80,8 @@ Eigen::VectorXd calcStringDistances(const Eigen::Matrix2Xd& points) {
 }
 
 Eigen::VectorXd calcStringSags(const Eigen::Matrix2Xd& points) {
-  if (!points.allFinite()) throw std::invalid_argument("calcStringSags: the points must be finite");
+  const std::vector<Eigen::Vector2d> hull = findHullWithAxis(points, "calcStringSags");
   const Eigen::Index m = points.cols();
-  std::vector<Eigen::Vector2d> all(static_cast<size_t>(m) + 1, Eigen::Vector2d::Zero());
-  for (Eigen::Index j = 0; j < m; ++j) all[static_cast<size_t>(j)] = points.col(j);
-  const std::vector<Eigen::Vector2d> hull = findHull(all);
   Eigen::VectorXd sags = Eigen::VectorXd::Zero(m);
   if (hull.size() < 3) return sags;
   for (Eigen::Index j = 0; j < m; ++j) {
