@@ -203,11 +203,7 @@ void TissueLattice::liftOff() {
         now.middleCols(first, count), rest.middleCols(first, count), turn->centre_mm, turn->axis, cell_mm_);
     for (int i = 0; i < count; ++i) addToNodes(guides_, first + i, string_rises.col(i), rises, shares);
   }
-  // Each node takes the mean rise of the guide points in its cells, then the rises are smoothed,
-  // so they fade towards the muscle's edge and its thin parts, where few guides pass.
-  for (int n = 0; n < k; ++n)
-    if (shares[n] > 0.0) rises.col(n) /= shares[n];
-  smooth(rises, scalePasses(settings_.lift_passes));
+  smoothNodeMeans(rises, shares);
   for (int n = 0; n < k; ++n) rises.col(n) *= lift_fraction_ * node_freedoms_[n];
   nodes_mm_ += rises;
   lift_max_mm_ = rises.colwise().norm().maxCoeff();
@@ -232,6 +228,14 @@ void TissueLattice::addToNodes(const LatticeBinding& points, int j, const Eigen:
   }
 }
 
+void TissueLattice::smoothNodeMeans(Eigen::Matrix3Xd& sums, const Eigen::VectorXd& shares) const {
+  // Each node takes the mean of the points in its cells, then the means are smoothed, so they
+  // fade towards the muscle's edge and its thin parts, where few points pass.
+  for (Eigen::Index n = 0; n < sums.cols(); ++n)
+    if (shares[n] > 0.0) sums.col(n) /= shares[n];
+  smooth(sums, scalePasses(settings_.lift_passes));
+}
+
 Eigen::Matrix3Xd TissueLattice::spreadLikeRises(const LatticeBinding& points, const Eigen::Matrix3Xd& vectors) const {
   if (vectors.cols() != points.size())
     throw std::invalid_argument("TissueLattice::spreadLikeRises: " + std::to_string(vectors.cols()) + " vectors for " +
@@ -240,9 +244,7 @@ Eigen::Matrix3Xd TissueLattice::spreadLikeRises(const LatticeBinding& points, co
   Eigen::Matrix3Xd at_nodes = Eigen::Matrix3Xd::Zero(3, k);
   Eigen::VectorXd shares = Eigen::VectorXd::Zero(k);
   for (int j = 0; j < points.size(); ++j) addToNodes(points, j, vectors.col(j), at_nodes, shares);
-  for (int n = 0; n < k; ++n)
-    if (shares[n] > 0.0) at_nodes.col(n) /= shares[n];
-  smooth(at_nodes, scalePasses(settings_.lift_passes));
+  smoothNodeMeans(at_nodes, shares);
   Eigen::Matrix3Xd out = Eigen::Matrix3Xd::Zero(3, points.size());
   for (int j = 0; j < points.size(); ++j) {
     const size_t jj = static_cast<size_t>(j);

@@ -197,6 +197,8 @@ class TissueLattice {
   /// Adds `value` at bound point j to its cell's nodes by the trilinear weights (sums and shares).
   void addToNodes(const LatticeBinding& points, int j, const Eigen::Vector3d& value, Eigen::Matrix3Xd& sums,
                   Eigen::VectorXd& shares) const;
+  /// Turns addToNodes' sums into means (nodes with no share keep 0) and smooths them by lift_passes.
+  void smoothNodeMeans(Eigen::Matrix3Xd& sums, const Eigen::VectorXd& shares) const;
 
   int num_bones_ = 0;
   LatticeSettings settings_;
