@@ -11,22 +11,27 @@ scripts/moment_arms.py does), reads the published curves of models/reference/hip
   in 10° steps: ours, the line of action's, the published spread (Blemker & Delp 2005, fibres of an
   image-based model) or else mean (Németh & Ohlsén 1985, in vivo), and whether ours lies within the
   spread, or within 25 % of the mean where only a mean is given; and a table of each muscle's
-  length change over 0–80°, ours, the line of action's and the one the published spread of arms gives.
+  length change over 0–80°, ours (also over the part of our fibres that the line of action spans), the
+  line of action's and the one the published spread of arms gives.
 All in OpenSim's sign, r = −∂l/∂q (mm per rad; positive: the muscle shortens as the hip flexes).
 
 Usage: /usr/bin/python3 scripts/validate_moment_arms.py [--no-write]
-Needs python3-numpy and python3-matplotlib (Debian) and a built host.
+Needs python3-numpy and python3-matplotlib (Debian), a built host and its Python module (scripts/setup.sh
+builds both).
 """
 import argparse
 import json
 import os
+import sys
 import tempfile
+import xml.etree.ElementTree as ET
 
 import numpy as np
 
 from moment_arms import MUSCLES, ROOT, run_scene
 from readme_section import replace_readme_section
 
+SCENE = os.path.join(ROOT, "models", "hip", "hip_flexion.xml")
 REFERENCE = os.path.join(ROOT, "models", "reference", "hip_flexion_moment_arms.json")
 PICTURE = os.path.join(ROOT, "docs", "pictures", "moment_arms_literature.png")
 COORDINATE = "hip_flexion_r"
@@ -141,33 +146,111 @@ def table(angle_deg, result, reference):
     return "\n".join(lines)
 
 
-def length_table(angle_deg, result, reference):
+def line_starts():
+    """{muscle: (body, first point, unit normal)}: where each line of action starts on its origin body (mm, in
+    the body's rest frame) and the plane there, normal to its first segment."""
+    starts = {}
+    for muscle in ET.parse(SCENE).getroot().iter("RBFMuscle"):
+        text = muscle.findtext("line_of_action")
+        if muscle.get("name") not in MUSCLES or not text:
+            continue
+        points = [p.split("@") for p in text.split(";")]
+        first, second = (np.array(p[0].split(), float) for p in points[:2])
+        starts[muscle.get("name")] = (points[0][1].strip(), first, (second - first) / np.linalg.norm(second - first))
+    return starts
+
+
+def length_past(fibre_mm, point_mm, normal):
+    """The length of a fibre polyline on the far side of the plane through `point_mm` normal to `normal`."""
+    side = (fibre_mm - point_mm) @ normal
+    total = 0.0
+    for a, b, sa, sb in zip(fibre_mm[:-1], fibre_mm[1:], side[:-1], side[1:]):
+        if sa <= 0.0 and sb <= 0.0:
+            continue
+        t = 0.0 if sa > 0.0 else sa / (sa - sb)  # where the segment enters the far side
+        u = 1.0 if sb > 0.0 else sa / (sa - sb)
+        total += (u - t) * np.linalg.norm(b - a)
+    return total
+
+
+def lengths_past_line_starts(angles_deg):
+    """{muscle: [mean length past its line of action's start at each of `angles_deg`]}, or None for a muscle
+    whose fibres do not all start before that plane: the part of our fibres that the line of action's path
+    spans. Runs the scene's motion through the Python module, with the fibres' geometry at those angles."""
+    sys.path.insert(0, os.path.join(ROOT, "build", "python"))
+    import rbfmuscle
+    model = rbfmuscle.Model(SCENE)
+    column = model.coordinate_names.index(COORDINATE)
+    starts = line_starts()
+    rest = {body: np.linalg.inv(model.body_transform(body)) for body, _, _ in starts.values()}
+    found = {m: [] for m in starts}
+    for coordinates in model.motion_coordinates:
+        angle = np.degrees(coordinates[column])
+        wanted = any(abs(angle - a) < 1e-6 for a in angles_deg)
+        model.step(coordinates, geometry=wanted)
+        if not wanted:
+            continue
+        for m, (body, point, normal) in starts.items():
+            to_rest = np.linalg.inv(rest[body]) @ np.linalg.inv(model.body_transform(body))  # ground → body at rest
+            fibres = np.asarray(model.fibres(m)) @ to_rest[:3, :3].T + to_rest[:3, 3]
+            if np.any((fibres[:, 0] - point) @ normal >= 0.0):
+                found[m] = None
+            elif found[m] is not None:
+                found[m].append(np.mean([length_past(f, point, normal) for f in fibres]))
+    return {m: v for m, v in found.items() if v is not None and len(v) == len(angles_deg)}
+
+
+def length_table(angle_deg, result, reference, past):
     """Each muscle's length change over the motion: ours, the line of action's, and the change that
-    the published spread of arms implies (l(b) − l(a) = −∫ r dq), also as a ratio to our l(a)."""
+    the published spread of arms implies (l(b) − l(a) = −∫ r dq), also as a ratio to our l(a); where our
+    fibres start before the line of action does, the same for the part of them its path spans (`past`)."""
     a, b = LENGTH_RANGE_DEG
     q = np.radians(np.linspace(a, b, 161))
     lines = [f"Length change from {a}° to {b}° of flexion: the mean fibre length, the line of action's, "
              f"and the change the published spread of moment arms gives, l({b}°) − l({a}°) = −∫ r dq, also as a "
              "ratio to our fibres' mean length at rest. A line of action's length is its own path's: "
              "MyoLeg's psoas starts at the pelvic brim, our fibres at the lumbar vertebrae "
-             "(`models/hip/README.md`), so only the changes compare.", "",
-             f"| muscle | ours: l({a}°) (mm), l({b}°) − l({a}°) (mm), ratio | line of action: the same "
-             f"| l({b}°) − l({a}°) by the published arms (mm) | the ratio they give our fibres |",
-             "|---|---|---|---|---|"]
+             "(`models/hip/README.md`). Where our fibres start before the line of action does, the second "
+             "column measures the part of them beyond the plane through its first point normal to its first "
+             "segment, the span its path covers.", "",
+             f"| muscle | ours: l({a}°) (mm), l({b}°) − l({a}°) (mm), ratio | ours over the line of action's span: the same "
+             f"| line of action: the same | l({b}°) − l({a}°) by the published arms (mm) "
+             "| the ratio they give our fibres (over the line of action's span) |",
+             "|---|---|---|---|---|---|"]
+    notes = []
     for m in MUSCLES:
         ends = {key: (at(a, angle_deg, result[m][key]), at(b, angle_deg, result[m][key]))
                 for key in ("length", "line_length")}
         cells = [f"{l_a:.0f}, {l_b - l_a:+.1f}, {l_b / l_a:.3f}" for l_a, l_b in ends.values()]
-        ours_a = ends["length"][0]
+        cells.insert(1, f"{past[m][0]:.0f}, {past[m][1] - past[m][0]:+.1f}, {past[m][1] / past[m][0]:.3f}"
+                     if m in past else "–")
+        bases = [ends["length"][0]] + ([past[m][0]] if m in past else [])
         published, ratios = [], []
         for name, angles, low, high in reference[m]["spread"]:
             if angles[0] > a + DIGITISED_END_DEG or angles[-1] < b - DIGITISED_END_DEG:
                 continue
             changes = sorted(-np.trapz(np.interp(np.degrees(q), angles, bound), q) for bound in (low, high))
             published.append(f"{changes[0]:+.1f} to {changes[1]:+.1f} ({name})")
-            ratios.append(f"{1 + changes[0] / ours_a:.3f} to {1 + changes[1] / ours_a:.3f}")
+            spans = [f"{1 + changes[0] / base:.3f} to {1 + changes[1] / base:.3f}" for base in bases]
+            ratios.append(spans[0] + (f" ({spans[1]})" if len(spans) > 1 else ""))
+            if m in past:
+                ratio = past[m][1] / past[m][0]
+                low_ratio, high_ratio = (1 + c / past[m][0] for c in changes)
+                above, shared = count_above(angle_deg, result[m]["line"], angles, high)
+                notes.append(f"{m}'s fibres over the line of action's span shorten to {ratio:.3f} of their length, "
+                             f"{'within' if low_ratio <= ratio <= high_ratio else 'outside'} the {low_ratio:.3f} to "
+                             f"{high_ratio:.3f} that {name}'s arms give them. Its line of action shortens to "
+                             f"{ends['line_length'][1] / ends['line_length'][0]:.3f}: its arm lies above the published "
+                             f"spread at {above} of {shared} angles 1° apart over {a}–{b}°.")
         lines.append(f"| {m} | " + " | ".join(cells) + f" | {'; '.join(published) or '–'} | {'; '.join(ratios) or '–'} |")
-    return "\n".join(lines)
+    return "\n".join(lines + ([""] + notes if notes else []))
+
+
+def count_above(angle_deg, series, angles, bound):
+    """At how many whole degrees of the length range `series` lies above `bound`, and of how many both have."""
+    a, b = LENGTH_RANGE_DEG
+    shared = [x for x in range(a, b + 1) if at(x, angles, bound) is not None and at(x, angle_deg, series) is not None]
+    return sum(at(x, angle_deg, series) > at(x, angles, bound) for x in shared), len(shared)
 
 
 def trend(angle_deg, result, reference):
@@ -186,7 +269,8 @@ def main():
     reference = load_reference()
     with tempfile.TemporaryDirectory() as out_root:
         angle_deg, result = run_scene("hip_flexion", COORDINATE, out_root)
-    text = table(angle_deg, result, reference) + "\n\n" + length_table(angle_deg, result, reference)
+    past = lengths_past_line_starts(LENGTH_RANGE_DEG)
+    text = table(angle_deg, result, reference) + "\n\n" + length_table(angle_deg, result, reference, past)
     print(text)
     if args.no_write:
         return
