@@ -2,6 +2,7 @@
 #include "fibres/fibre_projection.h"
 
 #include <algorithm>
+#include <optional>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -132,21 +133,31 @@ double climbByPatternSearch(const ImplicitField& field, const ProjectionSettings
 Eigen::Vector3d advanceInside(const ImplicitField& field, const ProjectionSettings& settings,
                               const Eigen::Vector3d& from_mm, const Eigen::Vector3d& to_mm) {
   checkProjectionSettings(settings);
-  // Stay above the start's own level where it lies below the margin, so a point just below
-  // the margin moves as one just above it does.
-  const double start = field.calcValue(from_mm);
-  if (!(start > 0.0)) return from_mm;
-  const double level = std::min(start, settings.margin_mm);
   const Eigen::Vector3d step = to_mm - from_mm;
   const int samples = std::max(1, static_cast<int>(std::ceil(step.norm() / settings.max_step_mm)));
+  // A sample at or above the margin lies above any start's level, so f(from) is needed only once
+  // a sample falls below the margin: most moves cost one evaluation per sample.
+  std::optional<double> level;
   double inside = 0.0;  // fraction of the step known inside
   for (int k = 1; k <= samples; ++k) {
     const double t = static_cast<double>(k) / samples;
-    if (field.calcValue(from_mm + t * step) < level) {
+    const double value = field.calcValue(from_mm + t * step);
+    if (value >= settings.margin_mm) {
+      inside = t;
+      continue;
+    }
+    if (!level) {
+      // Stay above the start's own level where it lies below the margin, so a point just below
+      // the margin moves as one just above it does.
+      const double start = field.calcValue(from_mm);
+      if (!(start > 0.0)) return from_mm;
+      level = std::min(start, settings.margin_mm);
+    }
+    if (value < *level) {
       double outside = t;
       for (int h = 0; h < settings.max_halvings; ++h) {
         const double middle = 0.5 * (inside + outside);
-        (field.calcValue(from_mm + middle * step) >= level ? inside : outside) = middle;
+        (field.calcValue(from_mm + middle * step) >= *level ? inside : outside) = middle;
       }
       return from_mm + inside * step;
     }

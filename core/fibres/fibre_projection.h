@@ -99,11 +99,14 @@ double climbByPatternSearch(const ImplicitField& field, const ProjectionSettings
 
 /// The point of the segment from `from_mm` to `to_mm` just before the segment first leaves
 /// {f ≥ level}, level = min(margin, f(from)): `to_mm` when it never does, `from_mm` when it
-/// starts outside (f(from) ≤ 0). A start just below the margin (a point the ascent has just
-/// brought in) thus moves as one just above it does, instead of staying put. The segment is
-/// sampled at most max_step_mm apart, and the first sample outside is bisected against the last
-/// inside max_halvings times. Taking the first exit, not any inside sample beyond, keeps the
-/// result continuous as the ends move (but where the segment grazes the surface).
+/// starts outside (f(from) ≤ 0) and leaves. A start just below the margin (a point the ascent
+/// has just brought in) thus moves as one just above it does, instead of staying put. The
+/// segment is sampled at most max_step_mm apart, and the first sample outside is bisected
+/// against the last inside max_halvings times. Taking the first exit, not any inside sample
+/// beyond, keeps the result continuous as the ends move (but where the segment grazes the
+/// surface). f(from) is evaluated only once a sample falls below the margin, so a segment whose
+/// samples all lie at or above the margin costs one evaluation per sample, and is taken whole
+/// from any start.
 /// @throws std::invalid_argument on bad settings.
 Eigen::Vector3d advanceInside(const ImplicitField& field, const ProjectionSettings& settings,
                               const Eigen::Vector3d& from_mm, const Eigen::Vector3d& to_mm);

@@ -220,6 +220,30 @@ TEST(AdvanceInside, AStartJustBelowTheMarginMovesAsOneJustAboveIt) {
   EXPECT_EQ(advanceInside(balls, settings, Eigen::Vector3d(10.5, 0, 0), to), Eigen::Vector3d(10.5, 0, 0));
 }
 
+/// Counts the evaluations of the field it wraps.
+struct CountedField final : ImplicitField {
+  explicit CountedField(const ImplicitField& field) : field(field) {}
+  double calcValue(const Eigen::Vector3d& p) const override { return ++evaluations, field.calcValue(p); }
+  Eigen::Vector3d calcGradient(const Eigen::Vector3d& p) const override { return field.calcGradient(p); }
+  const ImplicitField& field;
+  mutable int evaluations = 0;
+};
+
+TEST(AdvanceInside, ASegmentInsideByTheMarginCostsOneEvaluationPerSample) {
+  const TwoBalls balls;
+  const ProjectionSettings settings;  // margin 0.5, samples 1 mm apart
+  const CountedField counted(balls);
+  // 6.5 mm through the ball's middle: 7 samples, none below the margin, so the start is not needed.
+  EXPECT_EQ(advanceInside(counted, settings, Eigen::Vector3d(-3, 0, 0), Eigen::Vector3d(3.5, 0, 0)),
+            Eigen::Vector3d(3.5, 0, 0));
+  EXPECT_EQ(counted.evaluations, 7);
+  // Leaving the ball: the start's level is needed once a sample falls below the margin.
+  counted.evaluations = 0;
+  const Eigen::Vector3d exit = advanceInside(counted, settings, Eigen::Vector3d::Zero(), Eigen::Vector3d(12, 0, 0));
+  EXPECT_NEAR(exit.x(), 9.5, 1.0 / 1024);
+  EXPECT_EQ(counted.evaluations, 10 + 1 + settings.max_halvings);
+}
+
 TEST(ClimbByPatternSearch, APointJustOutsideClimbsIntoTheNearerPartByAboutAStep) {
   const TwoBalls balls;  // no gradient: projectInside cannot move a point outside
   const ProjectionSettings settings;  // steps of 1 mm
