@@ -2,8 +2,8 @@
 #include "fibres/fibre_projection.h"
 
 #include <algorithm>
-#include <optional>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
