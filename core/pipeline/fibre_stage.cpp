@@ -38,21 +38,11 @@ void FibreStage::run(MuscleState& state, const FrameInput& input) {
   // muscle allows. The whole field: a point can end several mm from its rest kernels.
   const double taut_fraction = lattice_->getTautFraction();
   const long count = static_cast<long>(points.cols());
-  moves_mm_.setZero(count);
+  double taut_move = 0.0;
   if (taut_fraction > 0.0) {
     lattice_->carryTaut(binding_, taut_mm_);
-    const MuscleShape shape(state, nullptr, 0, BoneContact::kCut);
-    forEachBlock(count, kBlock, [&](long begin, long end) {
-      for (long c = begin; c < end; ++c) {
-        const int j = static_cast<int>(c % per);
-        if (j == 0 || j == segments) continue;
-        const Eigen::Vector3d p = advanceInside(shape, projection_, points.col(c), taut_mm_.col(c));
-        moves_mm_[c] = (p - points.col(c)).norm();
-        points.col(c) = p;
-      }
-    });
+    taut_move = advanceInteriorPoints(MuscleShape(state, nullptr, 0, BoneContact::kCut), taut_mm_, points);
   }
-  const double taut_move = count > 0 ? moves_mm_.maxCoeff() : 0.0;
   values_.resize(count);
   // 1. Monotone ascent of min(f, s) for every point below the margin; ends move at most end_max_move_mm.
   moves_mm_.setZero(count);
@@ -123,14 +113,20 @@ double FibreStage::liftOff(MuscleState& state, const FrameInput& input, const Im
   for (Eigen::Index first = 0; first < points.cols(); first += per)
     rises.middleCols(first, per) = calcSagRisesSinceRest(points.middleCols(first, per), rest.middleCols(first, per),
                                                          turn->centre_mm, turn->axis, lattice_->getCellSize());
-  rises = lattice_->spreadLikeRises(binding_, rises);
+  const Eigen::Matrix3Xd targets = points + fraction * lattice_->spreadLikeRises(binding_, rises);
+  return advanceInteriorPoints(muscle, targets, points);
+}
+
+double FibreStage::advanceInteriorPoints(const ImplicitField& muscle, const Eigen::Matrix3Xd& targets_mm,
+                                         Eigen::Matrix3Xd& points) {
+  const int per = rest_.segments + 1;
   const long count = static_cast<long>(points.cols());
   moves_mm_.setZero(count);
   forEachBlock(count, kBlock, [&](long begin, long end) {
     for (long c = begin; c < end; ++c) {
       const int j = static_cast<int>(c % per);
       if (j == 0 || j == rest_.segments) continue;
-      const Eigen::Vector3d p = advanceInside(muscle, projection_, points.col(c), points.col(c) + fraction * rises.col(c));
+      const Eigen::Vector3d p = advanceInside(muscle, projection_, points.col(c), targets_mm.col(c));
       moves_mm_[c] = (p - points.col(c)).norm();
       points.col(c) = p;
     }

@@ -74,10 +74,13 @@ class FibreStage final : public FrameStage {
   /// Step 3 (fibre_stage.cpp): moves the interior fibre points out towards their strings
   /// within `muscle`; returns the largest move (mm).
   double liftOff(MuscleState& state, const FrameInput& input, const ImplicitField& muscle);
+  /// Moves each interior fibre point towards its target (3×P, mm) as far as `muscle` allows
+  /// (advanceInside), the ends staying; returns the largest move (mm).
+  double advanceInteriorPoints(const ImplicitField& muscle, const Eigen::Matrix3Xd& targets_mm, Eigen::Matrix3Xd& points);
 
   Eigen::Matrix3Xd taut_mm_;
   Eigen::VectorXd values_, lengths_mm_;
-  Eigen::VectorXd moves_mm_;  ///< per point: the taut move, then an end's projection move, then the lift's (mm)
+  Eigen::VectorXd moves_mm_;  ///< per point: a move towards a target, or an end's projection move (mm)
   Eigen::VectorXi steps_;     ///< per point: the projection's ascent steps
   Report report_;
 };
