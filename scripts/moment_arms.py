@@ -33,14 +33,21 @@ MUSCLES = ["glmax_r", "iliacus_r", "psoas_r"]
 TABLE_FRAMES = 5  # evenly spaced over the motion
 
 
+def moment_arm_sets(coordinate):
+    """The overrides that make every muscle report its moment arms about `coordinate`."""
+    return [f"{m}.moment_arms={coordinate}" for m in MUSCLES]
+
+
 def run_scene(scene, coordinate, out_root, extra_sets=()):
     out = os.path.join(out_root, scene)
-    sets = [a for v in extra_sets for a in ("--set", v)]
-    for m in MUSCLES:
-        sets += ["--set", f"{m}.moment_arms={coordinate}"]
+    sets = [a for v in list(extra_sets) + moment_arm_sets(coordinate) for a in ("--set", v)]
     subprocess.run([HOST, "run", os.path.join(ROOT, "models", "hip", scene + ".xml"), "-o", out, "--quiet"] + sets,
                    check=True)
-    columns = read_outputs(out)
+    return read_arms(read_outputs(out), coordinate)
+
+
+def read_arms(columns, coordinate):
+    """The angles (deg) and, per muscle, its arms and lengths, from a run's columns (read_outputs)."""
     column = lambda name: columns[name]
     angle_deg = np.degrees(column(coordinate))
     result = {}

@@ -2,9 +2,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """Hip-flexion moment arms of the flexion scene's muscles against published ones.
 
-Runs models/hip/hip_flexion.xml once with every muscle's moment arms about hip_flexion_r (as
-scripts/moment_arms.py does), reads the published curves of models/reference/hip_flexion_moment_arms.json
-(their sources, and how each was read, are in that file), then
+Runs models/hip/hip_flexion.xml once through the Python module with every muscle's moment arms
+about hip_flexion_r (as scripts/moment_arms.py asks the host for them), reads the published
+curves of models/reference/hip_flexion_moment_arms.json (their sources, and how each was read,
+are in that file), then
 - draws one panel per muscle: our mean over fibres and the range of the middle 80 % of fibres, the
   line of action, and the published spread or mean (docs/pictures/moment_arms_literature.png);
 - writes into README.md, between the "moment arm validation" markers, a table over 0–60° of flexion
@@ -16,19 +17,17 @@ scripts/moment_arms.py does), reads the published curves of models/reference/hip
 All in OpenSim's sign, r = −∂l/∂q (mm per rad; positive: the muscle shortens as the hip flexes).
 
 Usage: /usr/bin/python3 scripts/validate_moment_arms.py [--no-write]
-Needs python3-numpy and python3-matplotlib (Debian), a built host and its Python module (scripts/setup.sh
-builds both).
+Needs python3-numpy and python3-matplotlib (Debian) and the built Python module (scripts/setup.sh).
 """
 import argparse
 import json
 import os
 import sys
-import tempfile
 import xml.etree.ElementTree as ET
 
 import numpy as np
 
-from moment_arms import MUSCLES, ROOT, run_scene
+from moment_arms import MUSCLES, ROOT, moment_arm_sets, read_arms
 from readme_section import replace_readme_section
 
 SCENE = os.path.join(ROOT, "models", "hip", "hip_flexion.xml")
@@ -173,16 +172,17 @@ def length_past(fibre_mm, point_mm, normal):
     return total
 
 
-def lengths_past_line_starts(angles_deg):
-    """{muscle: [mean length past its line of action's start at each of `angles_deg`]}, or None for a muscle
-    whose fibres do not all start before that plane: the part of our fibres that the line of action's path
-    spans. Runs the scene's motion through the Python module, with the fibres' geometry at those angles."""
+def run_flexion(angles_deg):
+    """Runs the flexion scene through the Python module, with every muscle's moment arms and the
+    fibres' geometry at `angles_deg`: the angles and arms (moment_arms.read_arms), and {muscle:
+    [mean length past its line of action's start at each of `angles_deg`]} for the muscles whose
+    fibres all start before that plane, the part of our fibres that the line of action's path spans."""
     sys.path.insert(0, os.path.join(ROOT, "build", "python"))
     import rbfmuscle
-    model = rbfmuscle.Model(SCENE)
+    model = rbfmuscle.Model(SCENE, overrides=moment_arm_sets(COORDINATE))
     column = model.coordinate_names.index(COORDINATE)
     starts = line_starts()
-    rest = {body: np.linalg.inv(model.body_transform(body)) for body, _, _ in starts.values()}
+    rest = {body: model.body_transform(body) for body, _, _ in starts.values()}
     found = {m: [] for m in starts}
     for coordinates in model.motion_coordinates:
         angle = np.degrees(coordinates[column])
@@ -191,13 +191,14 @@ def lengths_past_line_starts(angles_deg):
         if not wanted:
             continue
         for m, (body, point, normal) in starts.items():
-            to_rest = np.linalg.inv(rest[body]) @ np.linalg.inv(model.body_transform(body))  # ground → body at rest
+            to_rest = rest[body] @ np.linalg.inv(model.body_transform(body))  # ground → body at rest
             fibres = np.asarray(model.fibres(m)) @ to_rest[:3, :3].T + to_rest[:3, 3]
             if np.any((fibres[:, 0] - point) @ normal >= 0.0):
                 found[m] = None
             elif found[m] is not None:
                 found[m].append(np.mean([length_past(f, point, normal) for f in fibres]))
-    return {m: v for m, v in found.items() if v is not None and len(v) == len(angles_deg)}
+    past = {m: v for m, v in found.items() if v is not None and len(v) == len(angles_deg)}
+    return read_arms(model.table(), COORDINATE) + (past,)
 
 
 def length_table(angle_deg, result, reference, past):
@@ -267,9 +268,7 @@ def main():
     parser.add_argument("--no-write", action="store_true", help="print the table, leave README.md and the picture alone")
     args = parser.parse_args()
     reference = load_reference()
-    with tempfile.TemporaryDirectory() as out_root:
-        angle_deg, result = run_scene("hip_flexion", COORDINATE, out_root)
-    past = lengths_past_line_starts(LENGTH_RANGE_DEG)
+    angle_deg, result, past = run_flexion(LENGTH_RANGE_DEG)
     text = table(angle_deg, result, reference) + "\n\n" + length_table(angle_deg, result, reference, past)
     print(text)
     if args.no_write:
